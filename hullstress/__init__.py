@@ -1,0 +1,2 @@
+"""hullstress: a robustness test harness and degeneracy fuzzer for convex hull algorithms."""
+from ._registry import register_algorithm, register_generator

@@ -1,0 +1,362 @@
+"""Registries of hull algorithms and point-set generators.
+
+Both are filled by decorators (:func:`register_algorithm`,
+:func:`register_generator`).  The built-in entries live in
+``hullstress.algorithms``, ``hullstress.adapters`` and the top-level
+``generators`` package; they are imported lazily, the first time a registry is
+read, so that ``import hullstress`` stays cheap and a plug-in can register
+before or after the built-ins load.
+"""
+
+from __future__ import annotations
+
+import inspect
+import threading
+from collections.abc import Callable, Iterator, Mapping
+from dataclasses import dataclass, field
+from types import MappingProxyType
+from typing import Any, Generic, TypeVar
+
+from .errors import DuplicateNameError, UnknownNameError, UsageError
+
+__all__ = [
+    "AlgorithmSpec",
+    "GeneratorSpec",
+    "Registry",
+    "ALGORITHMS",
+    "GENERATORS",
+    "register_algorithm",
+    "register_generator",
+    "get_algorithm",
+    "get_generator",
+    "algorithms",
+    "generators",
+    "load_builtins",
+]
+
+
+def _summary(func: Callable[..., Any]) -> str:
+    doc = inspect.getdoc(func) or ""
+    return doc.strip().splitlines()[0] if doc.strip() else ""
+
+
+def _origin(func: Callable[..., Any]) -> str:
+    module = getattr(func, "__module__", "") or ""
+    if module.startswith("hullstress.algorithms"):
+        return "in-house"
+    if module.startswith("hullstress.adapters"):
+        return "adapter"
+    return "plugin"
+
+
+@dataclass(frozen=True)
+class AlgorithmSpec:
+    """A registered hull algorithm.
+
+    Attributes
+    ----------
+    name : str
+        The registry name (``--algorithm NAME``).
+    func : callable
+        ``func(points, /, **kw) -> faces`` under DESIGN.md's contract.
+    dim : int
+        2 or 3.
+    takes_eps : bool
+        Whether ``func`` accepts an ``eps`` keyword; the eps variants apply only then.
+    origin : str
+        ``in-house``, ``adapter`` or ``plugin``.
+    summary : str
+        First line of the function's docstring.
+    """
+
+    name: str
+    func: Callable[..., Any]
+    dim: int
+    takes_eps: bool
+    origin: str
+    summary: str
+
+    @property
+    def module(self) -> str:
+        return getattr(self.func, "__module__", "")
+
+
+@dataclass(frozen=True)
+class GeneratorSpec:
+    """A registered point-set family.
+
+    Attributes
+    ----------
+    name : str
+        The family name (``--generator NAME``).
+    func : callable
+        ``func(rng, n, *, dim, **params) -> ndarray of shape (n, dim)``.
+    dims : tuple of int
+        The dimensions the family supports.
+    defaults : mapping
+        Keyword parameters and their defaults, read from the signature.
+    variants : tuple of mapping
+        Parameter sets worth sweeping; the profiles run each of them.
+    fixed_size : bool
+        True when the family ignores ``n`` (fixed published cases).
+    summary : str
+        First line of the docstring: what the family stresses.
+    """
+
+    name: str
+    func: Callable[..., Any]
+    dims: tuple[int, ...]
+    defaults: Mapping[str, Any]
+    variants: tuple[Mapping[str, Any], ...]
+    fixed_size: bool
+    summary: str
+
+
+T = TypeVar("T", AlgorithmSpec, GeneratorSpec)
+
+
+class Registry(Generic[T]):
+    """A name -> spec mapping that reports unknown names with the valid ones."""
+
+    def __init__(self, kind: str) -> None:
+        self.kind = kind
+        self._items: dict[str, T] = {}
+        self._lock = threading.Lock()
+
+    def add(self, spec: T) -> T:
+        with self._lock:
+            old = self._items.get(spec.name)
+            if old is not None and not _same_function(old.func, spec.func):
+                raise DuplicateNameError(
+                    f"{self.kind} {spec.name!r} is already registered by "
+                    f"{_qualname(old.func)}; cannot register {_qualname(spec.func)}"
+                )
+            self._items[spec.name] = spec
+        return spec
+
+    def remove(self, name: str) -> None:
+        """Forget ``name`` (used by tests and by plug-ins that re-register)."""
+        with self._lock:
+            self._items.pop(name, None)
+
+    def get(self, name: str) -> T:
+        load_builtins()
+        try:
+            return self._items[name]
+        except KeyError:
+            valid = ", ".join(sorted(self._items)) or "(none registered)"
+            raise UnknownNameError(
+                f"unknown {self.kind} {name!r}; valid names: {valid}"
+            ) from None
+
+    def names(self) -> list[str]:
+        load_builtins()
+        return sorted(self._items)
+
+    def specs(self) -> list[T]:
+        load_builtins()
+        return [self._items[k] for k in sorted(self._items)]
+
+    def __contains__(self, name: object) -> bool:
+        load_builtins()
+        return name in self._items
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self.names())
+
+    def __len__(self) -> int:
+        load_builtins()
+        return len(self._items)
+
+
+def _qualname(func: Callable[..., Any]) -> str:
+    return f"{getattr(func, '__module__', '?')}.{getattr(func, '__qualname__', func)!s}"
+
+
+def _same_function(a: Callable[..., Any], b: Callable[..., Any]) -> bool:
+    # Re-importing a plug-in file (e.g. twice through --plugin) yields a new
+    # function object with the same qualified name; that is not a conflict.
+    return a is b or _qualname(a) == _qualname(b)
+
+
+ALGORITHMS: Registry[AlgorithmSpec] = Registry("algorithm")
+GENERATORS: Registry[GeneratorSpec] = Registry("generator")
+
+
+def register_algorithm(name: str, *, dim: int) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
+    """Register a hull algorithm under ``name`` (a decorator).
+
+    Parameters
+    ----------
+    name : str
+        Registry name, e.g. ``"my-quickhull"``.
+    dim : {2, 3}
+        Dimension of the points the function accepts.
+
+    Returns
+    -------
+    callable
+        A decorator that registers the function and returns it unchanged.
+
+    Notes
+    -----
+    The function receives an ``(n, dim)`` float64, C-contiguous, read-only
+    array and returns, in 3D, an ``(m, 3)`` integer array of counter-clockwise
+    triangles or a list of polygons; in 2D, a counter-clockwise sequence of
+    vertex indices.  If it accepts a keyword ``eps``, the eps variants apply.
+
+    Examples
+    --------
+    >>> from hullstress import register_algorithm
+    >>> @register_algorithm("doc-example-triangle", dim=2)
+    ... def triangle_only(points):
+    ...     '''Accepts exactly three points (declines a degenerate pair).'''
+    ...     if len(points) != 3:
+    ...         raise ValueError("need exactly 3 points")
+    ...     return [0, 1, 2]
+    """
+    if not isinstance(name, str) or not name.strip():
+        raise UsageError(f"algorithm name must be a non-empty string, got {name!r}")
+    if dim not in (2, 3):
+        raise UsageError(f"dim must be 2 or 3, got {dim!r}")
+
+    def decorate(func: Callable[..., Any]) -> Callable[..., Any]:
+        if not callable(func):
+            raise UsageError(f"register_algorithm needs a callable, got {func!r}")
+        try:
+            params = inspect.signature(func).parameters
+        except (TypeError, ValueError):
+            params = {}
+        takes_eps = "eps" in params or any(
+            p.kind is inspect.Parameter.VAR_KEYWORD for p in params.values()
+        )
+        ALGORITHMS.add(
+            AlgorithmSpec(
+                name=name,
+                func=func,
+                dim=int(dim),
+                takes_eps=takes_eps,
+                origin=_origin(func),
+                summary=_summary(func),
+            )
+        )
+        return func
+
+    return decorate
+
+
+def register_generator(
+    name: str,
+    *,
+    dims: tuple[int, ...] | list[int] = (2, 3),
+    variants: tuple[Mapping[str, Any], ...] | list[Mapping[str, Any]] = ({},),
+    fixed_size: bool = False,
+) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
+    """Register a point-set family under ``name`` (a decorator).
+
+    Parameters
+    ----------
+    name : str
+        Family name, e.g. ``"coplanar-grid"``.
+    dims : tuple of int
+        Dimensions the family supports.
+    variants : sequence of mapping
+        Parameter sets the sweep profiles run (each merged over the defaults).
+    fixed_size : bool
+        True when the family ignores ``n`` (fixed published cases).
+
+    Returns
+    -------
+    callable
+        A decorator that registers the function and returns it unchanged.
+
+    Notes
+    -----
+    The function is called as ``func(rng, n, *, dim, **params)`` with a
+    ``numpy.random.Generator`` and must return an ``(n, dim)`` float64 array;
+    the same (family, params, seed) must always give the same bytes.
+    """
+    if not isinstance(name, str) or not name.strip():
+        raise UsageError(f"generator name must be a non-empty string, got {name!r}")
+    dims_t = tuple(int(d) for d in dims)
+    if not dims_t or any(d not in (2, 3) for d in dims_t):
+        raise UsageError(f"dims must be a non-empty subset of (2, 3), got {dims!r}")
+
+    def decorate(func: Callable[..., Any]) -> Callable[..., Any]:
+        sig = inspect.signature(func)
+        defaults = {
+            p.name: p.default
+            for p in sig.parameters.values()
+            if p.kind is inspect.Parameter.KEYWORD_ONLY
+            and p.name != "dim"
+            and p.default is not inspect.Parameter.empty
+        }
+        for v in variants:
+            unknown = set(v) - set(defaults)
+            if unknown:
+                raise UsageError(
+                    f"generator {name!r}: variant {dict(v)!r} names unknown "
+                    f"parameters {sorted(unknown)}; known: {sorted(defaults)}"
+                )
+        GENERATORS.add(
+            GeneratorSpec(
+                name=name,
+                func=func,
+                dims=dims_t,
+                defaults=MappingProxyType(defaults),
+                variants=tuple(MappingProxyType(dict(v)) for v in variants),
+                fixed_size=bool(fixed_size),
+                summary=_summary(func),
+            )
+        )
+        return func
+
+    return decorate
+
+
+_loaded = False
+_loading = threading.RLock()
+
+
+def load_builtins() -> None:
+    """Import the built-in algorithms, adapters, generators and entry-point plug-ins once."""
+    global _loaded
+    if _loaded:
+        return
+    with _loading:
+        if _loaded:
+            return
+        _loaded = True  # set first: the imports below call back into the registries
+        import importlib
+
+        for module in ("hullstress.algorithms", "hullstress.adapters", "generators"):
+            try:
+                importlib.import_module(module)
+            except ModuleNotFoundError as exc:
+                # Only tolerate the package itself being absent (a partial
+                # install); a missing dependency inside it is a real error.
+                if exc.name != module:
+                    raise
+        from . import plugins
+
+        plugins.load_entry_points()
+
+
+def get_algorithm(name: str) -> AlgorithmSpec:
+    """Return the registered algorithm ``name`` or raise :class:`UnknownNameError`."""
+    return ALGORITHMS.get(name)
+
+
+def get_generator(name: str) -> GeneratorSpec:
+    """Return the registered generator ``name`` or raise :class:`UnknownNameError`."""
+    return GENERATORS.get(name)
+
+
+def algorithms(dim: int | None = None) -> list[AlgorithmSpec]:
+    """All registered algorithms (optionally only those of dimension ``dim``), by name."""
+    return [s for s in ALGORITHMS.specs() if dim is None or s.dim == dim]
+
+
+def generators(dim: int | None = None) -> list[GeneratorSpec]:
+    """All registered generators (optionally only those supporting ``dim``), by name."""
+    return [s for s in GENERATORS.specs() if dim is None or dim in s.dims]

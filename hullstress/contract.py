@@ -1,0 +1,225 @@
+"""The output contract of DESIGN.md, enforced: raw algorithm output -> normalised faces.
+
+An algorithm's return value is untrusted.  :func:`normalize_output` either
+turns it into a :class:`FaceSet` (3D) or a 1-D index array (2D), or raises
+:class:`~hullstress.errors.ContractViolation` with a one-line reason that
+names the offending value.  A violation makes the call's status ``fail``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .errors import ContractViolation
+
+__all__ = ["FaceSet", "normalize_output", "normalize_polygon", "normalize_faces"]
+
+
+@dataclass(frozen=True, eq=False)
+class FaceSet:
+    """Polygonal faces in compressed-row form.
+
+    Attributes
+    ----------
+    indices : ndarray of shape (k,), int64
+        All faces' vertex indices, concatenated.
+    offsets : ndarray of shape (m + 1,), int64
+        Face ``i`` is ``indices[offsets[i]:offsets[i + 1]]``.
+
+    Examples
+    --------
+    >>> fs = FaceSet.from_triangles([[0, 1, 2], [0, 2, 3]])
+    >>> fs.n_faces, fs.is_triangles, fs.face(1).tolist()
+    (2, True, [0, 2, 3])
+    """
+
+    indices: np.ndarray
+    offsets: np.ndarray
+
+    @classmethod
+    def from_triangles(cls, triangles: Any) -> "FaceSet":
+        tri = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
+        return cls(tri.ravel().copy(), np.arange(0, 3 * len(tri) + 1, 3, dtype=np.int64))
+
+    @classmethod
+    def from_polygons(cls, polygons: Sequence[Sequence[int]]) -> "FaceSet":
+        sizes = np.fromiter((len(p) for p in polygons), dtype=np.int64, count=len(polygons))
+        offsets = np.zeros(len(polygons) + 1, dtype=np.int64)
+        np.cumsum(sizes, out=offsets[1:])
+        if len(polygons):
+            indices = np.concatenate([np.asarray(p, dtype=np.int64).ravel() for p in polygons])
+        else:
+            indices = np.zeros(0, dtype=np.int64)
+        return cls(indices, offsets)
+
+    @property
+    def n_faces(self) -> int:
+        return int(len(self.offsets) - 1)
+
+    @property
+    def sizes(self) -> np.ndarray:
+        return np.diff(self.offsets)
+
+    @property
+    def is_triangles(self) -> bool:
+        return bool(np.all(self.sizes == 3))
+
+    def face(self, i: int) -> np.ndarray:
+        return self.indices[self.offsets[i] : self.offsets[i + 1]]
+
+    def polygons(self) -> list[np.ndarray]:
+        return [self.face(i) for i in range(self.n_faces)]
+
+    def triangles(self) -> np.ndarray:
+        """The faces as an (m, 3) array; raises ValueError unless every face is a triangle."""
+        if not self.is_triangles:
+            raise ValueError("not every face is a triangle; use fan_triangles()")
+        return self.indices.reshape(-1, 3)
+
+    def fan_triangles(self) -> tuple[np.ndarray, np.ndarray]:
+        """Fan-triangulate every face from its first vertex.
+
+        Returns
+        -------
+        triangles : ndarray of shape (t, 3), int64
+        face_of : ndarray of shape (t,), int64
+            The face each triangle came from.
+        """
+        sizes = self.sizes
+        n_tri = np.maximum(sizes - 2, 0)
+        face_of = np.repeat(np.arange(self.n_faces, dtype=np.int64), n_tri)
+        if len(face_of) == 0:
+            return np.zeros((0, 3), dtype=np.int64), face_of
+        first = np.repeat(np.cumsum(n_tri) - n_tri, n_tri)
+        k = np.arange(len(face_of), dtype=np.int64) - first  # 0..size-3 within each face
+        base = self.offsets[face_of]
+        tri = np.stack(
+            [self.indices[base], self.indices[base + k + 1], self.indices[base + k + 2]], axis=1
+        )
+        return tri, face_of
+
+    def vertex_set(self) -> np.ndarray:
+        """Sorted unique vertex indices used by any face."""
+        return np.unique(self.indices)
+
+    def to_python(self) -> list[list[int]]:
+        return [self.face(i).tolist() for i in range(self.n_faces)]
+
+
+def _describe(value: Any) -> str:
+    if isinstance(value, np.ndarray):
+        return f"ndarray of dtype {value.dtype} and shape {value.shape}"
+    text = repr(value)
+    return f"{type(value).__name__} {text[:60]}{'...' if len(text) > 60 else ''}"
+
+
+def _as_index_array(value: Any, what: str) -> np.ndarray:
+    """Convert to int64 without accepting floats, bools, strings or ragged nesting."""
+    try:
+        arr = np.asarray(value)
+    except (ValueError, TypeError) as exc:
+        raise ContractViolation(f"{what} must be integer indices, got {_describe(value)}: {exc}") from None
+    if arr.dtype == object:
+        # A list mixing Python ints and numpy ints is fine; anything else is not.
+        flat = arr.ravel().tolist()
+        if not all(isinstance(x, (int, np.integer)) and not isinstance(x, (bool, np.bool_)) for x in flat):
+            bad = next(
+                (x for x in flat if not isinstance(x, (int, np.integer)) or isinstance(x, (bool, np.bool_))),
+                None,
+            )
+            raise ContractViolation(f"{what} must be integer indices, got element {bad!r}")
+        arr = np.array(flat, dtype=np.int64).reshape(arr.shape)
+    if arr.dtype.kind == "b" or arr.dtype.kind not in "iu":
+        raise ContractViolation(f"{what} must be integer indices, got {_describe(value)}")
+    if arr.dtype.kind == "u" and arr.size and arr.max() > np.iinfo(np.int64).max:
+        raise ContractViolation(f"{what} holds an index too large for int64: {arr.max()}")
+    return arr.astype(np.int64, copy=False)
+
+
+def _check_range(arr: np.ndarray, n_points: int, what: str) -> None:
+    if arr.size == 0:
+        return
+    lo, hi = int(arr.min()), int(arr.max())
+    if lo < 0:
+        raise ContractViolation(f"{what} holds index {lo}, out of range for {n_points} points")
+    if hi >= n_points:
+        raise ContractViolation(f"{what} holds index {hi}, out of range for {n_points} points")
+
+
+def normalize_polygon(output: Any, n_points: int) -> np.ndarray:
+    """Validate a 2D result: a counter-clockwise sequence of vertex indices.
+
+    Returns
+    -------
+    ndarray of shape (k,), int64
+
+    Raises
+    ------
+    ContractViolation
+        On ``None``, non-integer entries, nesting, or indices outside ``[0, n_points)``.
+    """
+    if output is None:
+        raise ContractViolation("the algorithm returned None instead of vertex indices")
+    if isinstance(output, (str, bytes)):
+        raise ContractViolation(f"vertex indices must be integers, got {_describe(output)}")
+    arr = _as_index_array(output, "vertex indices")
+    if arr.ndim != 1:
+        raise ContractViolation(
+            f"a 2D hull must be a 1-D sequence of vertex indices, got shape {arr.shape}"
+        )
+    _check_range(arr, n_points, "vertex indices")
+    return arr.copy()
+
+
+def normalize_faces(output: Any, n_points: int) -> FaceSet:
+    """Validate a 3D result: an (m, 3) integer array or a list of polygons.
+
+    Returns
+    -------
+    FaceSet
+
+    Raises
+    ------
+    ContractViolation
+        On ``None``, wrong shapes, non-integer entries, faces with fewer than
+        three vertices, or indices outside ``[0, n_points)``.
+    """
+    if output is None:
+        raise ContractViolation("the algorithm returned None instead of faces")
+    if isinstance(output, (str, bytes, dict)):
+        raise ContractViolation(f"faces must be an (m, 3) integer array or a list of polygons, got {_describe(output)}")
+    if isinstance(output, np.ndarray):
+        if output.ndim != 2 or (output.shape[1] != 3 and output.shape[0] > 0):
+            raise ContractViolation(
+                f"faces must be an (m, 3) integer array, got shape {output.shape}"
+            )
+        arr = _as_index_array(output, "faces")
+        _check_range(arr, n_points, "faces")
+        return FaceSet.from_triangles(arr)
+    try:
+        polygons = list(output)
+    except TypeError:
+        raise ContractViolation(
+            f"faces must be an (m, 3) integer array or a list of polygons, got {_describe(output)}"
+        ) from None
+    checked = []
+    for i, poly in enumerate(polygons):
+        if poly is None or isinstance(poly, (str, bytes)) or np.ndim(poly) != 1:
+            raise ContractViolation(f"face {i} must be a sequence of vertex indices, got {_describe(poly)}")
+        arr = _as_index_array(poly, f"face {i}")
+        if len(arr) < 3:
+            raise ContractViolation(f"face {i} has {len(arr)} vertices; a face needs at least 3")
+        _check_range(arr, n_points, f"face {i}")
+        checked.append(arr)
+    return FaceSet.from_polygons(checked)
+
+
+def normalize_output(output: Any, n_points: int, dim: int) -> np.ndarray | FaceSet:
+    """Validate raw algorithm output for a ``dim``-dimensional case of ``n_points`` points."""
+    if dim == 2:
+        return normalize_polygon(output, n_points)
+    return normalize_faces(output, n_points)

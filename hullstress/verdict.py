@@ -1,0 +1,148 @@
+"""The verdict record: what the checker concludes about one hull of one point set.
+
+The checker (``hullstress.checker``) fills it; the sweep flattens it into table
+columns with :meth:`Verdict.as_row`.  :data:`VERDICT_COLUMNS` fixes the column
+order, and rows for calls that produced no hull (errors, timeouts, crashes)
+carry the same columns with missing values, so every table has one schema.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+__all__ = ["Verdict", "VERDICT_COLUMNS", "CHECKS", "SEVERITIES", "empty_verdict_row"]
+
+#: The four checks of DESIGN.md, in report order.
+CHECKS = ("convexity", "containment", "manifoldness", "qhull_agreement")
+#: Severity of the worst violation: none, within a small multiple of Qhull's DISTround, or beyond.
+SEVERITIES = ("none", "roundoff", "gross")
+
+#: Verdict columns as they appear in results tables (after the provenance and status columns).
+VERDICT_COLUMNS = (
+    "convexity",
+    "containment",
+    "manifoldness",
+    "qhull_agreement",
+    "failed_checks",
+    "severity",
+    "max_violation",
+    "distround",
+    "n_faces",
+    "n_hull_vertices",
+    "n_extreme",
+    "n_missing_extreme",
+    "n_boundary_nonextreme",
+    "n_outside",
+    "n_nonconvex_edges",
+    "n_degenerate_faces",
+    "volume",
+    "qhull_volume",
+    "qhull_options",
+    "qhull_ok",
+    "affine_rank",
+    "offending",
+)
+
+
+@dataclass(frozen=True)
+class Verdict:
+    """The certified verdict on one hull.
+
+    Attributes
+    ----------
+    convexity, containment, manifoldness : bool
+        DESIGN.md's checks, decided with exact predicates.
+    qhull_agreement : bool or None
+        Extreme vertex set and volume (area) agree with Qhull's; ``None`` when
+        Qhull could not produce a reference even with retried options.
+    severity : {"none", "roundoff", "gross"}
+        Of the worst violation, in units of Qhull's DISTround for the input.
+    max_violation : float
+        The worst violation's magnitude divided by DISTround (0.0 when none).
+    distround : float
+        Qhull's DISTround for the input (the unit of ``max_violation``).
+    n_faces, n_hull_vertices : int
+        Size of the surface checked.
+    n_extreme : int or None
+        Number of true extreme points of the input (None when it could not be certified).
+    n_missing_extreme : int
+        Extreme points that are not vertices of the hull.
+    n_boundary_nonextreme : int
+        Hull vertices on the boundary but not extreme (allowed, counted).
+    n_outside : int
+        Input points strictly outside some facet.
+    n_nonconvex_edges : int
+        Edges whose neighbouring facet's far vertex is strictly above.
+    n_degenerate_faces : int
+        Faces that are degenerate, non-planar or non-convex.
+    volume : float
+        Volume (area in 2D) of the checked hull.
+    qhull_volume : float or None
+    qhull_options : str or None
+        The Qhull options that produced the reference (e.g. ``"Qt"``, ``"QJ"``).
+    qhull_ok : bool or None
+        Whether Qhull's own hull passes the same exact checks.
+    affine_rank : int
+        Exact affine rank of the input (``dim`` for a full-dimensional input).
+    offending : mapping of str to tuple of int
+        Up to a limit of offending point or face indices per check, e.g.
+        ``{"containment": (17, 40), "convexity_faces": (3,)}``.
+    detail : str
+        One human-readable line summarising what failed.
+    """
+
+    convexity: bool
+    containment: bool
+    manifoldness: bool
+    qhull_agreement: bool | None
+    severity: str = "none"
+    max_violation: float = 0.0
+    distround: float = 0.0
+    n_faces: int = 0
+    n_hull_vertices: int = 0
+    n_extreme: int | None = None
+    n_missing_extreme: int = 0
+    n_boundary_nonextreme: int = 0
+    n_outside: int = 0
+    n_nonconvex_edges: int = 0
+    n_degenerate_faces: int = 0
+    volume: float = 0.0
+    qhull_volume: float | None = None
+    qhull_options: str | None = None
+    qhull_ok: bool | None = None
+    affine_rank: int = 0
+    offending: Mapping[str, tuple[int, ...]] = field(default_factory=dict)
+    detail: str = ""
+
+    @property
+    def failed_checks(self) -> tuple[str, ...]:
+        """Names of the checks that failed, in :data:`CHECKS` order."""
+        return tuple(c for c in CHECKS if getattr(self, c) is False)
+
+    @property
+    def ok(self) -> bool:
+        """True when no check failed (an unknown Qhull agreement does not count as failed)."""
+        return not self.failed_checks
+
+    def as_row(self) -> dict[str, Any]:
+        """The verdict as table columns, in :data:`VERDICT_COLUMNS` order."""
+        row: dict[str, Any] = {}
+        for col in VERDICT_COLUMNS:
+            if col == "failed_checks":
+                row[col] = ",".join(self.failed_checks)
+            elif col == "offending":
+                row[col] = json.dumps(
+                    {k: list(map(int, v)) for k, v in sorted(self.offending.items())},
+                    separators=(",", ":"),
+                )
+            else:
+                row[col] = getattr(self, col)
+        return row
+
+
+def empty_verdict_row() -> dict[str, Any]:
+    """Verdict columns for a call that produced no checkable hull (all missing)."""
+    return {col: None for col in VERDICT_COLUMNS}
