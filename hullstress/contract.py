@@ -123,6 +123,9 @@ def _as_index_array(value: Any, what: str) -> np.ndarray:
         arr = np.asarray(value)
     except (ValueError, TypeError) as exc:
         raise ContractViolation(f"{what} must be integer indices, got {_describe(value)}: {exc}") from None
+    if arr.size == 0 and arr.dtype.kind in "fiu":
+        # An empty list becomes float64 in numpy; there is no entry to be wrong.
+        return np.zeros(arr.shape, dtype=np.int64)
     if arr.dtype == object:
         # A list mixing Python ints and numpy ints is fine; anything else is not.
         flat = arr.ravel().tolist()

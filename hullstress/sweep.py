@@ -1,0 +1,203 @@
+"""A sweep: build the cases, run every config on them, collect one table.
+
+The case set depends only on the options (profile, generators, sizes, seed,
+points files): every case's seed is derived from the base seed and the case's
+provenance by hashing, so it does not depend on the order cases are built or
+run in, nor on the number of workers.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from ._registry import GeneratorSpec, algorithms, get_algorithm, get_generator, generators
+from .case import Case, canonical_params
+from .config import AlgorithmConfig, expand_configs
+from .errors import UsageError
+from .profiles import Profile, get_profile
+from .results import ResultRow, to_frame
+from .runner import ExecutionStats, RunnerOptions, Task, execute
+
+__all__ = ["SweepOptions", "SweepResult", "build_cases", "build_tasks", "case_seed", "run_sweep", "sort_table"]
+
+
+@dataclass(frozen=True)
+class SweepOptions:
+    """Everything that decides which cases and configs a sweep runs (see ``run --help``)."""
+
+    profile: str = "quick"
+    algorithms: tuple[str, ...] = ()
+    generators: tuple[str, ...] = ()
+    sphere: str = "both"
+    eps: str = "both"
+    sizes: tuple[int, ...] | None = None
+    seed: int = 0
+    points_files: tuple[str, ...] = ()
+    workers: int | None = None
+    timeout: float | None = None
+    time_budget: float | None = None
+    qhull: bool = True
+
+    @property
+    def profile_spec(self) -> Profile:
+        return get_profile(self.profile)
+
+    def runner_options(self) -> RunnerOptions:
+        workers = self.workers if self.workers is not None else (os.cpu_count() or 1)
+        timeout = self.timeout if self.timeout is not None else self.profile_spec.timeout
+        return RunnerOptions(workers=workers, timeout=timeout, time_budget=self.time_budget, qhull=self.qhull)
+
+
+@dataclass
+class SweepResult:
+    """The table of one sweep plus what happened along the way."""
+
+    table: pd.DataFrame
+    cases: list[Case]
+    configs: dict[int, list[AlgorithmConfig]]
+    stats: ExecutionStats
+    skipped: list[str] = field(default_factory=list)
+
+    @property
+    def n_failed(self) -> int:
+        return int(self.table["status"].isin(["fail", "error", "timeout", "crash"]).sum())
+
+
+def case_seed(base_seed: int, family: str, params_json: str, dim: int, size: int | None, replicate: int) -> int:
+    """A 63-bit seed for one case, from the base seed and the case's provenance."""
+    key = f"{base_seed}|{family}|{params_json}|{dim}|{size}|{replicate}".encode()
+    return int.from_bytes(hashlib.sha256(key).digest()[:8], "big") >> 1
+
+
+def _selected_generators(options: SweepOptions) -> list[GeneratorSpec]:
+    if options.generators:
+        return [get_generator(name) for name in dict.fromkeys(options.generators)]
+    if options.points_files:
+        return []  # files given and no --generator: only the files run
+    return generators()
+
+
+def _sizes_for(options: SweepOptions, dim: int) -> tuple[int, ...]:
+    if options.sizes is not None:
+        return options.sizes
+    return options.profile_spec.sizes[dim]
+
+
+def build_cases(options: SweepOptions, dims: Sequence[int] = (2, 3)) -> tuple[list[Case], list[str]]:
+    """Generate the sweep's cases.
+
+    Returns
+    -------
+    cases : list of Case
+        In a deterministic order (family, dim, variant, size, replicate, then files).
+    skipped : list of str
+        One line per (family, params, size) the generator declined, with its reason.
+    """
+    from .io import read_points
+
+    profile = options.profile_spec
+    cases: list[Case] = []
+    skipped: list[str] = []
+    for spec in _selected_generators(options):
+        for dim in spec.dims:
+            if dim not in dims:
+                continue
+            for variant in spec.variants:
+                params = {**spec.defaults, **variant}
+                params_json = canonical_params(params)
+                sizes: tuple[int | None, ...] = (None,) if spec.fixed_size else _sizes_for(options, dim)
+                for size in sizes:
+                    for rep in range(profile.replicates):
+                        seed = case_seed(options.seed, spec.name, params_json, dim, size, rep)
+                        rng = np.random.default_rng(seed)
+                        try:
+                            pts = spec.func(rng, size if size is not None else 0, dim=dim, **params)
+                        except ValueError as exc:
+                            skipped.append(f"{spec.name} dim={dim} {params_json} n={size}: {exc}")
+                            continue
+                        cases.append(
+                            Case(points=pts, dim=dim, family=spec.name, params=params,
+                                 seed=seed, size=size, source="generator")
+                        )
+    for path in dict.fromkeys(options.points_files):
+        pts = read_points(path)
+        cases.append(Case.from_points(pts, family="file", params={"file": os.path.basename(path)}, source=str(path)))
+    # Identical provenance and points give the same id: keep the first.
+    unique = list({c.case_id: c for c in reversed(cases)}.values())[::-1]
+    return unique, skipped
+
+
+def build_tasks(options: SweepOptions) -> tuple[list[Task], list[Case], dict[int, list[AlgorithmConfig]], list[str]]:
+    """Cases crossed with the configs of their dimension, as runner tasks."""
+    if options.algorithms:
+        specs = [get_algorithm(name) for name in dict.fromkeys(options.algorithms)]
+    else:
+        specs = algorithms()
+    configs = {d: expand_configs([s for s in specs if s.dim == d], sphere=options.sphere, eps=options.eps) for d in (2, 3)}
+    dims = [d for d in (2, 3) if configs[d]]
+    cases, skipped = build_cases(options, dims=dims)
+    for case in cases:
+        if case.dim not in dims:
+            skipped.append(f"{case.source}: no selected algorithm takes {case.dim}D points")
+    tasks = [
+        Task(index=i, case=c, configs=tuple(configs[c.dim]))
+        for i, c in enumerate(c for c in cases if c.dim in dims)
+    ]
+    return tasks, [t.case for t in tasks], configs, skipped
+
+
+def sort_table(df: pd.DataFrame, case_order: Sequence[str]) -> pd.DataFrame:
+    """Rows in case order, then config label: independent of the order results arrived in."""
+    order = {cid: i for i, cid in enumerate(case_order)}
+    key = df["case_id"].map(order)
+    return (
+        df.assign(_case_order=key)
+        .sort_values(["_case_order", "config"], kind="mergesort")
+        .drop(columns="_case_order")
+        .reset_index(drop=True)
+    )
+
+
+def run_sweep(
+    options: SweepOptions,
+    *,
+    on_row: Callable[[ResultRow], None] | None = None,
+    tasks: list[Task] | None = None,
+) -> SweepResult:
+    """Build the cases and run every config on them.
+
+    Parameters
+    ----------
+    options : SweepOptions
+    on_row : callable, optional
+        Called with each row as it arrives (for streaming to disk).
+    tasks : list of Task, optional
+        Pre-built tasks (from :func:`build_tasks`), to skip rebuilding them.
+
+    Returns
+    -------
+    SweepResult
+    """
+    if tasks is None:
+        tasks, cases, configs, skipped = build_tasks(options)
+    else:
+        cases = [t.case for t in tasks]
+        configs = {}
+        skipped = []
+    rows: list[ResultRow] = []
+
+    def collect(row: ResultRow) -> None:
+        rows.append(row)
+        if on_row is not None:
+            on_row(row)
+
+    stats = execute(tasks, options.runner_options(), collect)
+    table = sort_table(to_frame(rows), [c.case_id for c in cases])
+    return SweepResult(table=table, cases=cases, configs=configs, stats=stats, skipped=skipped)
