@@ -1,0 +1,73 @@
+"""``python -m hullstress replay [DIR]``: re-run the regression corpus against every algorithm config."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from ..corpus import DEFAULT_CORPUS
+from ..errors import UsageError
+
+__all__ = ["add_parser", "replay_command"]
+
+
+def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    p = sub.add_parser(
+        "replay",
+        help="re-run the regression corpus and compare with recorded expectations",
+        description="Replay every corpus entry against every algorithm config of its dimension and report, "
+        "per entry: still failing as recorded, fixed, changed (fails differently), new failure. "
+        "Exit status: 1 if any entry changed or newly fails (a regression); otherwise 2 if a corpus "
+        "file could not be read (the others still replay); otherwise 0.",
+    )
+    p.add_argument("corpus", nargs="?", default=str(DEFAULT_CORPUS), metavar="DIR",
+                   help=f"corpus folder or one corpus file (default: {DEFAULT_CORPUS})")
+    p.add_argument("--algorithm", action="append", default=[], metavar="NAME", help="replay only this algorithm (repeatable)")
+    p.add_argument("--plugin", action="append", default=[], metavar="MODULE_OR_FILE", help="import a plug-in first (repeatable)")
+    p.add_argument("--accept", action="store_true",
+                   help="record the current verdicts as the new expectations (after a fix)")
+    p.add_argument("--workers", type=int, default=None, metavar="N", help="worker processes (default: all cores; 0 in-process)")
+    p.add_argument("--timeout", type=float, default=10.0, metavar="SECONDS", help="per-call timeout (default 10)")
+    p.add_argument("--verbose", action="store_true", help="list every (entry, config) outcome, not only the changes")
+    p.set_defaults(handler=replay_command)
+
+
+def replay_command(args: argparse.Namespace) -> int:
+    import os
+
+    from ..corpus import iter_corpus  # noqa: F401  (import errors surface as usage errors below)
+    from ..plugins import load_plugin
+    from ..replay import REGRESSIONS, replay_corpus
+
+    for spec in args.plugin:
+        load_plugin(spec)
+    if args.workers is not None and args.workers < 0:
+        raise UsageError(f"--workers must be 0 or more, got {args.workers}")
+    if not args.timeout > 0:
+        raise UsageError(f"--timeout must be positive, got {args.timeout}")
+    if not os.path.exists(args.corpus):
+        raise UsageError(f"corpus {args.corpus!r}: no such file or directory")
+    workers = args.workers if args.workers is not None else (os.cpu_count() or 1)
+    result = replay_corpus(args.corpus, algorithm_names=tuple(args.algorithm), workers=workers,
+                           timeout=args.timeout, accept=args.accept)
+    for err in result.errors:
+        print(f"hullstress: error: {err}", file=sys.stderr)
+    table = result.table
+    shown = table if args.verbose else table[table["outcome"] != "ok"]
+    for rec in shown.itertuples(index=False):
+        expected = rec.expected or "(none)"
+        print(f"{rec.outcome:<13} {rec.entry} {rec.family:<22} {rec.config:<40} expected {expected:<22} got {rec.actual}")
+    per_entry = result.per_entry()
+    counts = table["outcome"].value_counts()
+    regress_entries = int((per_entry[list(REGRESSIONS)].sum(axis=1) > 0).sum()) if len(per_entry) else 0
+    print(
+        f"replayed {len(per_entry)} entries x configs = {len(table)} calls: "
+        + ", ".join(f"{counts.get(k, 0)} {k}" for k in ("still-failing", "fixed", "changed", "new-failure", "ok"))
+        + f"; {regress_entries} entries with regressions; {len(result.errors)} unreadable files"
+    )
+    if result.accepted:
+        print(f"accepted current verdicts as expectations in {len(result.accepted)} files")
+        return 0
+    if regress_entries:
+        return 1
+    return 2 if result.errors else 0
