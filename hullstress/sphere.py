@@ -2,13 +2,12 @@
 
 Seed: ``002_262f4fc866409e02.txt`` (Ben Kenwright, "Convex Hulls: Surface
 Mapping onto a Sphere"), section 4 "A preliminary stage" and Algorithm 1,
-lines 1-9.  The stage is implemented once here and used twice:
-
-* by the harness's ``sphere=on`` variant, for every algorithm (in-house or
-  plug-in), through :func:`sphere_project`; the harness maps the algorithm's
-  output indices back with ``original_indices[output]`` (:func:`map_back`);
-* by Kenwright's own hull (``hullstress.algorithms.kenwright``), through
-  :func:`surface_points`, which stops before the projection.
+lines 1-9.  The stage is implemented once here and used by the harness's
+``sphere=on`` variant, for every algorithm (in-house or plug-in), through
+:func:`sphere_project`; the harness maps the algorithm's output indices back
+with ``original_indices[output]`` (:func:`map_back`).  ``kenwright`` with
+``sphere=on`` is therefore the seed's full method, and ``kenwright`` with
+``sphere=off`` is its incremental stage alone (lines 10-17).
 
 The mapping of code to Algorithm 1:
 
