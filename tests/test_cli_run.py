@@ -1,0 +1,164 @@
+"""``python -m hullstress run`` end to end: report files, exit statuses, bad input, determinism."""
+
+import json
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from hullstress.cli import main
+from hullstress.results import ROW_COLUMNS, TIMING_COLUMNS
+
+PY = sys.executable
+
+
+def run_cli(*args, cwd=None, timeout=300):
+    return subprocess.run([PY, "-m", "hullstress", *args], capture_output=True, text=True, cwd=cwd, timeout=timeout)
+
+
+def _run_dir(stdout: str) -> Path:
+    line = [l for l in stdout.splitlines() if l.startswith("report: ")][-1]
+    return Path(line.split("report: ", 1)[1])
+
+
+GOOD_PLUGIN = textwrap.dedent(
+    """
+    import numpy as np
+    from scipy.spatial import ConvexHull
+    from hullstress import register_algorithm
+
+    @register_algorithm("test-qhull-2d", dim=2)
+    def qhull_2d(points):
+        '''scipy's hull (correct on general position).'''
+        return ConvexHull(points).vertices
+    """
+)
+
+
+@pytest.fixture
+def good_plugin(tmp_path):
+    path = tmp_path / "good_plugin.py"
+    path.write_text(GOOD_PLUGIN)
+    return path
+
+
+@pytest.fixture
+def square_csv(tmp_path):
+    path = tmp_path / "square.csv"
+    pts = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.5, 0.5]])
+    np.savetxt(path, pts, delimiter=",")
+    return path
+
+
+def test_points_file_only_run_writes_report_and_exits_0(tmp_path, good_plugin, square_csv):
+    res = run_cli("run", "--plugin", str(good_plugin), "--algorithm", "test-qhull-2d",
+                  "--points-file", str(square_csv), "--out", str(tmp_path / "out"), "--workers", "0")
+    assert res.returncode == 0, res.stderr
+    run_dir = _run_dir(res.stdout)
+    assert run_dir.parent == tmp_path / "out"
+    df = pd.read_csv(run_dir / "results.csv", keep_default_na=False)
+    assert list(df.columns) == list(ROW_COLUMNS)
+    assert len(df) == 2  # one case x (sphere off, on)
+    assert set(df["generator"]) == {"file"} and set(df["status"]) == {"pass"}
+    meta = json.loads((run_dir / "run.json").read_text())
+    assert meta["complete"] is True and meta["seed"] == 0 and "numpy" in meta["versions"]
+    assert "Failures by algorithm x variant x family" in (run_dir / "summary.md").read_text()
+    assert not (run_dir / "results.partial.csv").exists()
+
+
+def test_failures_exit_1(tmp_path, square_csv):
+    plugin = tmp_path / "bad_plugin.py"
+    plugin.write_text(textwrap.dedent(
+        """
+        from hullstress import register_algorithm
+
+        @register_algorithm("test-drops-a-corner", dim=2)
+        def drops(points):
+            return [0, 1, 2]          # the square's corner 3 is left out
+        """
+    ))
+    res = run_cli("run", "--plugin", str(plugin), "--algorithm", "test-drops-a-corner", "--sphere", "off",
+                  "--points-file", str(square_csv), "--out", str(tmp_path), "--workers", "0")
+    assert res.returncode == 1, res.stderr
+    df = pd.read_csv(_run_dir(res.stdout) / "results.csv", keep_default_na=False)
+    assert df["status"].tolist() == ["fail"] and "containment" in df["failed_checks"][0]
+
+
+BAD_CALLS = [
+    (["run", "--algorithm", "no-such-hull"], "unknown algorithm 'no-such-hull'; valid names:"),
+    (["run", "--generator", "no-such-family"], "unknown generator 'no-such-family'; valid names:"),
+    (["run", "--sizes", "ten"], "--sizes must be comma-separated positive integers, got 'ten'"),
+    (["run", "--sizes", "10,0"], "--sizes must be positive, got 0"),
+    (["run", "--points-file", "/nonexistent/points.csv"], "/nonexistent/points.csv"),
+    (["run", "--workers", "-1"], "--workers must be 0 or more, got -1"),
+    (["run", "--timeout", "0"], "--timeout must be positive, got 0.0"),
+    (["run", "--time-budget", "-5"], "--time-budget must be positive, got -5.0"),
+    (["run", "--plugin", "/nonexistent/plugin.py"], "--plugin '/nonexistent/plugin.py': no such file"),
+    (["run", "--plugin", "no_such_module_xyz"], "no module named 'no_such_module_xyz'"),
+    (["run", "--profile", "weekly"], "invalid choice: 'weekly'"),
+    (["run", "--sphere", "maybe"], "invalid choice: 'maybe'"),
+    (["run", "--seed", "abc"], "invalid int value: 'abc'"),
+    (["list", "everything"], "invalid choice: 'everything'"),
+    (["replay", "/nonexistent/corpus"], "corpus '/nonexistent/corpus': no such file or directory"),
+    (["export", "/nonexistent/case.json", "--format", "csv"], "no such file"),
+]
+
+
+@pytest.mark.parametrize("argv, message", BAD_CALLS, ids=[" ".join(a) for a, _ in BAD_CALLS])
+def test_bad_input_gives_one_line_and_exit_2(argv, message, capsys):
+    code = main(argv)
+    err = capsys.readouterr().err
+    assert code == 2
+    assert message in err
+    assert len(err.strip().splitlines()) == 1, err
+    assert "Traceback" not in err
+
+
+def test_help_exits_0(capsys):
+    assert main(["run", "--help"]) == 0
+    out = capsys.readouterr().out
+    for option in ("--profile", "--algorithm", "--generator", "--sphere", "--eps", "--sizes", "--seed",
+                   "--workers", "--timeout", "--time-budget", "--plugin", "--points-file", "--out"):
+        assert option in out
+
+
+def test_malformed_points_file_and_unwritable_out(tmp_path, capsys):
+    bad = tmp_path / "bad.csv"
+    bad.write_text("x,y\n1,2\n3,oops\n")
+    assert main(["run", "--points-file", str(bad)]) == 2
+    err = capsys.readouterr().err
+    assert "bad.csv" in err and len(err.strip().splitlines()) == 1
+    blocker = tmp_path / "a-file"
+    blocker.write_text("not a folder")
+    good = tmp_path / "good.csv"
+    good.write_text("0,0\n1,0\n0,1\n")
+    assert main(["run", "--points-file", str(good), "--out", str(blocker / "sub"), "--workers", "0"]) == 2
+    err = capsys.readouterr().err
+    assert "--out" in err and "a-file" in err and len(err.strip().splitlines()) == 1
+
+
+def _table_without_timing(run_dir: Path) -> pd.DataFrame:
+    return pd.read_csv(run_dir / "results.csv", keep_default_na=False).drop(columns=list(TIMING_COLUMNS))
+
+
+def test_quick_profile_determinism_across_worker_counts(tmp_path):
+    """Two runs with the same seed give identical tables whatever --workers is (timings aside)."""
+    args = ["run", "--seed", "5", "--out", str(tmp_path), "--quiet", "--sizes", "12"]
+    first = run_cli(*args, "--workers", "1")
+    second = run_cli(*args, "--workers", "2")
+    assert first.returncode in (0, 1) and second.returncode == first.returncode, first.stderr + second.stderr
+    a, b = _table_without_timing(_run_dir(first.stdout)), _table_without_timing(_run_dir(second.stdout))
+    assert len(a) >= 200
+    pd.testing.assert_frame_equal(a, b)
+
+
+@pytest.mark.slow
+def test_default_quick_profile_runs_under_a_minute(tmp_path):
+    res = run_cli("run", "--out", str(tmp_path), "--quiet")
+    assert res.returncode in (0, 1), res.stderr
+    meta = json.loads((_run_dir(res.stdout) / "run.json").read_text())
+    assert meta["calls"] >= 200 and meta["timings"]["wall_seconds"] < 60
