@@ -14,4 +14,4 @@ name                      dim  seed
 ========================  ===  ===============================================
 """
 
-from . import jarvis, kenwright, monotone_chain, naive2d  # noqa: F401
+from . import gift_wrap, henckel, jarvis, kenwright, monotone_chain, naive2d  # noqa: F401
