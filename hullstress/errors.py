@@ -17,6 +17,7 @@ __all__ = [
     "ContractViolation",
     "AlgorithmStepLimit",
     "CorpusError",
+    "GeneratorValueError",
 ]
 
 
@@ -53,3 +54,7 @@ class AlgorithmStepLimit(HullstressError):
 
 class CorpusError(HullstressError):
     """A regression-corpus file that cannot be read or written."""
+
+
+class GeneratorValueError(UsageError, ValueError):
+    """A generator argument out of range, e.g. too few points for the family (also a ValueError)."""
