@@ -17,6 +17,7 @@ from ._registry import (
     register_generator,
 )
 from .case import Case
+from .checker import check, qhull_reference
 from .config import AlgorithmConfig, expand_configs
 from .contract import FaceSet, normalize_output
 from .errors import (
@@ -54,12 +55,14 @@ __all__ = [
     "UsageError",
     "Verdict",
     "algorithms",
+    "check",
     "evaluate",
     "expand_configs",
     "generators",
     "get_algorithm",
     "get_generator",
     "normalize_output",
+    "qhull_reference",
     "register_algorithm",
     "register_generator",
     "to_frame",

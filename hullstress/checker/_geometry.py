@@ -1,0 +1,206 @@
+"""Geometry shared by the checks: exact rescaling, Qhull's DISTround, interior points, distances.
+
+Nothing here decides a verdict on its own: exact decisions are made with
+:mod:`.predicates`.  The float distances are for *reporting* magnitudes, and
+:func:`inner_radius` is a rigorous lower bound used only as a shortcut.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .predicates import _filter2, _filter3, orient2d, orient2d_value, orient3d, orient3d_value
+
+__all__ = [
+    "exact_scale",
+    "distround",
+    "Interior",
+    "point_plane_distance",
+    "point_line_distance",
+    "inner_radius",
+]
+
+_EPS52 = 2.0**-52  # Qhull's REALepsilon
+
+
+def exact_scale(points: np.ndarray) -> tuple[np.ndarray, int]:
+    """Scale by a power of two so the largest magnitude is in [0.5, 1), when that is exact.
+
+    Every orientation sign is invariant under a positive scaling, so the checks
+    run on the scaled copy: the float filter then never overflows and rarely
+    meets underflow.  When the scaling would round a tiny coordinate (an input
+    spanning more than ~2000 binades), the points are returned unscaled.
+
+    Parameters
+    ----------
+    points : ndarray of shape (n, d), float64, finite
+
+    Returns
+    -------
+    scaled : ndarray of shape (n, d), float64
+    exponent : int
+        ``scaled == points * 2**exponent`` exactly.
+
+    Examples
+    --------
+    >>> s, k = exact_scale(np.array([[1e300, 0.0], [-3e299, 1.0]]))
+    >>> k, float(np.abs(s).max()) < 1.0
+    (-997, True)
+    """
+    pts = np.asarray(points, dtype=np.float64)
+    if pts.size == 0:
+        return pts, 0
+    top = float(np.abs(pts).max())
+    if top == 0.0:
+        return pts, 0
+    k = -int(np.frexp(top)[1])
+    if k == 0:
+        return pts, 0
+    scaled = np.ldexp(pts, k)
+    if np.array_equal(np.ldexp(scaled, -k), pts):
+        return scaled, k
+    return pts, 0
+
+
+def distround(points: np.ndarray) -> float:
+    """Qhull's DISTround for ``points``: the rounding error of a distance computation.
+
+    ``eps * (d * min(sqrt(d) * MAXabs, MAXsumcoord) * 1.01 + MAXabs)`` with
+    ``eps = 2**-52``, MAXabs the largest coordinate magnitude and MAXsumcoord
+    the sum over axes of each axis's largest magnitude (Qhull 2020.2,
+    ``qh_detroundoff``).
+
+    Parameters
+    ----------
+    points : ndarray of shape (n, d), float64
+
+    Returns
+    -------
+    float
+        0.0 for an empty input.
+
+    Examples
+    --------
+    >>> f"{distround(np.array([[0.5, 0.5, 0.5], [-0.5, -0.5, -0.5]])):.3g}"
+    '6.94e-16'
+    """
+    pts = np.asarray(points, dtype=np.float64)
+    if pts.ndim != 2 or pts.size == 0:
+        return 0.0
+    d = pts.shape[1]
+    per_axis = np.abs(pts).max(axis=0)
+    maxabs = float(per_axis.max())
+    maxsum = float(per_axis.sum())
+    return float(_EPS52 * (d * min(float(np.sqrt(d)) * maxabs, maxsum) * 1.01 + maxabs))
+
+
+@dataclass(frozen=True)
+class Interior:
+    """A point strictly inside the convex hull of the input, kept exact.
+
+    Attributes
+    ----------
+    simplex : ndarray of shape (d + 1, d), float64
+        Affinely independent input points; the interior point is their
+        centroid, never rounded (predicates use the ``*_mean`` forms).
+    approx : ndarray of shape (d,), float64
+        The centroid rounded to float64: a *candidate* float interior point,
+        usable as a plain predicate argument only after it has been verified.
+    """
+
+    simplex: np.ndarray
+    approx: np.ndarray
+
+    @classmethod
+    def from_simplex(cls, simplex: np.ndarray) -> "Interior":
+        simplex = np.asarray(simplex, dtype=np.float64)
+        # Sum then divide: the mean of finite values in [-1, 1] cannot overflow.
+        approx = simplex.sum(axis=0) / len(simplex)
+        return cls(simplex, approx)
+
+    @property
+    def rows(self) -> list[np.ndarray]:
+        return list(self.simplex)
+
+    def approx_is_inside_simplex(self) -> bool:
+        """Exactly: is the rounded centroid strictly inside the simplex?"""
+        s, o = self.simplex, self.approx
+        if len(s) == 3 and s.shape[1] == 2:
+            ref = orient2d(s[0], s[1], s[2])[0]
+            faces = [(s[0], s[1]), (s[1], s[2]), (s[2], s[0])]
+            return all(orient2d(a, b, o)[0] == ref for a, b in faces)
+        if len(s) == 4 and s.shape[1] == 3:
+            ref = orient3d(s[0], s[1], s[2], s[3])[0]
+            faces = [(s[0], s[1], s[2], s[3]), (s[1], s[2], s[3], s[0]), (s[2], s[3], s[0], s[1]), (s[3], s[0], s[1], s[2])]
+            # Each facet of the simplex, with the opposite vertex as the reference side.
+            return all(orient3d(a, b, c, o)[0] == orient3d(a, b, c, x)[0] != 0 for a, b, c, x in faces) and ref != 0
+        return False
+
+
+def point_plane_distance(a: np.ndarray, b: np.ndarray, c: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """Float signed distance of p above the plane of (a, b, c) (positive on the normal's side).
+
+    For reporting magnitudes only; inf or NaN never escape (0 for a degenerate triangle).
+    """
+    with np.errstate(all="ignore"):
+        n = np.cross(np.asarray(b) - a, np.asarray(c) - a)
+        norm = np.sqrt(np.einsum("...i,...i->...", n, n))
+        dist = -orient3d_value(a, b, c, p) / norm
+    return np.nan_to_num(dist, nan=0.0, posinf=0.0, neginf=0.0)
+
+
+def point_line_distance(a: np.ndarray, b: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """Float signed distance of p to the left of the directed line a -> b (for reporting)."""
+    with np.errstate(all="ignore"):
+        u = np.asarray(b) - a
+        norm = np.sqrt(np.einsum("...i,...i->...", u, u))
+        dist = orient2d_value(a, b, p) / norm
+    return np.nan_to_num(dist, nan=0.0, posinf=0.0, neginf=0.0)
+
+
+def inner_radius(planes: list[np.ndarray], center: np.ndarray) -> float:
+    """A rigorous lower bound on the distance from ``center`` to the nearest facet plane.
+
+    Parameters
+    ----------
+    planes : list of ndarray of shape (m, d), float64
+        The facets' defining points: ``[a, b, c]`` (3D) or ``[a, b]`` (2D),
+        oriented so that ``center`` is below / left of every one.
+    center : ndarray of shape (d,), float64
+
+    Returns
+    -------
+    float
+        ``r >= 0`` such that the ball of radius ``r`` around ``center`` lies
+        below every plane.  The numerator uses Shewchuk's bound on the
+        determinant (doubled), the denominator an upper bound on the normal's
+        length (each component's error at most 8 eps of its terms' magnitudes,
+        twice the textbook bound), and the result is shrunk by a further 1e-9.
+    """
+    eps = 2.0**-53
+    with np.errstate(all="ignore"):
+        if len(planes) == 3:
+            a, b, c = planes
+            cols = [x[:, i] for x in (a, b, c) for i in range(3)] + [np.full(len(a), center[i]) for i in range(3)]
+            num, num_err, noise = _filter3(*cols)
+            u, v = b - a, c - a
+            n = np.cross(u, v)
+            terms = np.abs(np.stack([u[:, 1] * v[:, 2], u[:, 2] * v[:, 1], u[:, 2] * v[:, 0], u[:, 0] * v[:, 2], u[:, 0] * v[:, 1], u[:, 1] * v[:, 0]], axis=1))
+            err = 8.0 * eps * (terms[:, 0::2] + terms[:, 1::2]) + 2.0**-1000
+        else:
+            a, b = planes
+            cols = [x[:, i] for x in (a, b) for i in range(2)] + [np.full(len(a), center[i]) for i in range(2)]
+            num, num_err = _filter2(*cols)
+            noise = 2.0**-1000
+            u = b - a
+            n = np.stack([u[:, 1], -u[:, 0]], axis=1)
+            err = 2.0 * eps * np.abs(n) + 2.0**-1000
+        num_low = num - (num_err * 2.0 + noise)
+        den_up = np.sqrt(((np.abs(n) + err) ** 2).sum(axis=1)) * (1.0 + 1e-12)
+        r = num_low / den_up
+        if not len(r) or not np.isfinite(r).all():
+            return 0.0
+        low = float(r.min())
+    return max(low * (1.0 - 1e-9), 0.0)
