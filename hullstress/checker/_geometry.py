@@ -7,6 +7,8 @@ Nothing here decides a verdict on its own: exact decisions are made with
 
 from __future__ import annotations
 
+import math
+
 from dataclasses import dataclass
 
 import numpy as np
@@ -92,8 +94,17 @@ def distround(points: np.ndarray) -> float:
     d = pts.shape[1]
     per_axis = np.abs(pts).max(axis=0)
     maxabs = float(per_axis.max())
-    maxsum = float(per_axis.sum())
-    return float(_EPS52 * (d * min(float(np.sqrt(d)) * maxabs, maxsum) * 1.01 + maxabs))
+    # Near the top of the double range the sums overflow; Qhull's formula is
+    # linear in the magnitude, so evaluate it on the scaled-down maxima instead.
+    k = int(np.frexp(maxabs)[1]) if maxabs > 0 else 0
+    with np.errstate(under="ignore"):
+        axes = np.ldexp(per_axis, -k)
+    a, s = float(axes.max()), float(axes.sum())
+    unit = _EPS52 * (d * min(math.sqrt(d) * a, s) * 1.01 + a)
+    try:
+        return math.ldexp(unit, k)
+    except OverflowError:
+        return math.inf
 
 
 @dataclass(frozen=True)

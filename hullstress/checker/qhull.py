@@ -11,6 +11,8 @@ recorded in ``error``.
 
 from __future__ import annotations
 
+import math
+
 import warnings
 from dataclasses import dataclass
 
@@ -104,6 +106,19 @@ class QhullReference:
             "distround": self.distround,
             "affine_rank": self.affine_rank,
         }
+
+
+#: Outside this magnitude range Qhull runs on exactly rescaled points (see qhull_reference).
+_QHULL_SAFE_LOW = 2.0**-400
+_QHULL_SAFE_HIGH = 2.0**400
+
+
+def _unscale(value: float, exponent: int) -> float:
+    """``value * 2**exponent``, inf when that overflows (a volume at 1e300 does)."""
+    try:
+        return math.ldexp(value, exponent)
+    except OverflowError:
+        return math.copysign(math.inf, value)
 
 
 def _first_line(exc: BaseException) -> str:
@@ -204,7 +219,14 @@ def qhull_reference(points: np.ndarray) -> QhullReference:
     rank = len(simplex) - 1
     interior = Interior.from_simplex(scaled[simplex]) if rank == dim else None
     dr = distround(pts)
-    hull, options, attempts = _run_qhull(pts)
+    # Qhull overflows near the ends of the double range (and was seen to die with
+    # SIGSEGV on a cube's faces at 1e300): there it runs on the exactly rescaled
+    # copy, which has the same hull up to the power-of-two factor, and says so.
+    top = float(np.abs(pts).max())
+    rescale = exponent != 0 and not (_QHULL_SAFE_LOW <= top <= _QHULL_SAFE_HIGH)
+    hull, options, attempts = _run_qhull(scaled if rescale else pts)
+    if rescale and options is not None:
+        options = f"{options} (on input scaled by 2^{exponent})"
     if hull is None:
         return QhullReference(
             None, None, None, None, None, attempts, "Qhull failed with every option set: " + attempts[-1],
@@ -230,8 +252,8 @@ def qhull_reference(points: np.ndarray) -> QhullReference:
     return QhullReference(
         vertices=vertices,
         faces=faces,
-        volume=float(hull.volume),
-        area=float(hull.area),
+        volume=_unscale(float(hull.volume), -exponent * dim) if rescale else float(hull.volume),
+        area=_unscale(float(hull.area), -exponent * (dim - 1)) if rescale else float(hull.area),
         options=options,
         attempts=attempts,
         error=None,

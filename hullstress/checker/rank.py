@@ -79,13 +79,16 @@ def witness_simplex(points: np.ndarray) -> np.ndarray:
     n, d = pts.shape
     if n == 0:
         return np.zeros(0, dtype=np.int64)
-    pair = _far_pair(pts)
+    # Scores are only a heuristic for which points to try (each choice is then
+    # confirmed exactly), so overflow to inf near the double range is harmless.
+    with np.errstate(all="ignore"):
+        pair = _far_pair(pts)
     if pair is None:
         return np.array([0], dtype=np.int64)
     i, j = pair
-    u = pts[j] - pts[i]
-    rel = pts - pts[i]
     with np.errstate(all="ignore"):
+        u = pts[j] - pts[i]
+        rel = pts - pts[i]
         if d == 2:
             score = np.abs(rel[:, 0] * u[1] - rel[:, 1] * u[0])
         else:
