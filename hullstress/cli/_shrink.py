@@ -1,0 +1,113 @@
+"""``python -m hullstress shrink``: minimise one failing case from a points file.
+
+Exit status: 1 when the case fails (and, unless ``--no-shrink``, was shrunk
+and written); 0 when it does not fail; 2 for bad arguments or input.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from ..config import NO_EPS, AlgorithmConfig
+from ..errors import UsageError
+
+__all__ = ["add_parser", "shrink_command"]
+
+
+def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    p = sub.add_parser(
+        "shrink",
+        help="minimise one failing case (points file + algorithm config)",
+        description="Run one algorithm config on a points file; if it fails, shrink the points to a small "
+        "set that fails the same way (ddmin over points, then fewer mantissa bits and power-of-two scaling) "
+        "and write a failure folder with the minimal case, picture and reproduce command. "
+        "Exit status: 1 the case fails (and was shrunk), 0 it does not fail, 2 bad arguments or input.",
+    )
+    p.add_argument("points_file", metavar="POINTS_FILE", help="the failing case (.npy, .csv, .xyz, Qhull text)")
+    p.add_argument("--algorithm", required=True, metavar="NAME", help="the algorithm (see `list algorithms`)")
+    p.add_argument("--sphere", choices=("off", "on"), default="off", help="sphere projection first (default off)")
+    p.add_argument("--eps", choices=("scaled", "fixed"), default="scaled",
+                   help="eps policy for algorithms taking eps (default scaled; ignored otherwise)")
+    p.add_argument("--check", default=None, metavar="CHECK",
+                   help="keep this failure (a check name, contract, error, timeout, crash); default: the "
+                   "case's current failure")
+    p.add_argument("--budget", type=float, default=30.0, metavar="SECONDS", help="shrink time budget (default 30)")
+    p.add_argument("--max-calls", type=int, default=5000, metavar="N", help="cap on judged calls (default 5000)")
+    p.add_argument("--timeout", type=float, default=None, metavar="SECONDS",
+                   help="per-call timeout of isolated calls (default 10)")
+    p.add_argument("--no-shrink", action="store_true",
+                   help="only run the case once and report; exit 1 if it fails (writes nothing)")
+    p.add_argument("--raw", action="store_true",
+                   help="load a .npy file as it is (non-finite values and odd shapes allowed, for bad-input cases)")
+    p.add_argument("--dim", type=int, choices=(2, 3), default=None,
+                   help="the case's dimension (default: the algorithm's)")
+    p.add_argument("--plugin", action="append", default=[], metavar="MODULE_OR_FILE",
+                   help="import a plug-in first (repeatable)")
+    p.add_argument("--out", default="reports", metavar="DIR",
+                   help="where the shrink folder goes (default: reports)")
+    p.set_defaults(handler=shrink_command)
+
+
+def _load(args: argparse.Namespace, dim: int):  # -> Case
+    from ..case import Case
+    from ..io import read_points
+
+    path = Path(args.points_file)
+    if args.raw:
+        if path.suffix.lower() != ".npy":
+            raise UsageError(f"--raw needs a .npy points file, got {args.points_file!r}")
+        try:
+            pts = np.load(path, allow_pickle=False)
+        except (OSError, ValueError) as exc:
+            raise UsageError(f"points file {args.points_file!r}: cannot load: {exc}") from None
+        return Case(points=np.asarray(pts, dtype=np.float64), dim=dim, family="file",
+                    params={"file": path.name}, source=str(path))
+    return Case.from_points(read_points(path, dim=dim), family="file", params={"file": path.name},
+                            source=str(path))
+
+
+def shrink_command(args: argparse.Namespace) -> int:
+    from .._registry import get_algorithm
+    from ..plugins import load_plugin
+    from ..report.failures import write_failure_folder
+    from ..report.writer import new_run_dir
+    from ..triage import run_config, shrink, signature_of
+
+    for spec in args.plugin:
+        load_plugin(spec)
+    if args.budget <= 0:
+        raise UsageError(f"--budget must be positive, got {args.budget!r}")
+    if args.max_calls < 1:
+        raise UsageError(f"--max-calls must be at least 1, got {args.max_calls!r}")
+    spec = get_algorithm(args.algorithm)
+    dim = args.dim if args.dim is not None else spec.dim
+    if dim != spec.dim:
+        raise UsageError(f"--dim {dim} does not match algorithm {spec.name!r}, which takes {spec.dim}D points")
+    config = AlgorithmConfig(spec.name, args.sphere, args.eps if spec.takes_eps else NO_EPS)
+    case = _load(args, dim)
+    row = run_config(case, config, timeout=args.timeout)
+    sig = signature_of(row)
+    if sig is None or (args.check is not None and sig.check != args.check):
+        print(f"{config.label} on {case.n_points} points: {row.status}"
+              + (f" ({sig.check}, not {args.check})" if sig is not None else "")
+              + (f": {row.get('reason')}" if row.get("reason") else "") + " -- the failure does not reproduce")
+        return 0
+    print(f"{config.label} on {case.n_points} points: {row.status} ({sig.check}): {row.get('reason')}")
+    if args.no_shrink:
+        return 1
+    result = shrink(case, config, sig, budget_seconds=args.budget, max_calls=args.max_calls, timeout=args.timeout)
+    run_dir = new_run_dir(args.out, f"shrink-{time.strftime('%Y%m%d-%H%M%S')}-{spec.name}")
+    rec = write_failure_folder(run_dir / "failures", result, config, plugins=args.plugin, timeout=args.timeout)
+    state = "" if not result.exhausted else " (budget spent; may not be minimal)"
+    print(f"shrunk {result.original_size} -> {result.minimal_size} points in {result.calls} calls, "
+          f"{result.seconds:.1f} s{state}")
+    if result.note and not result.reproduced:
+        print(f"note: {result.note}", file=sys.stderr)
+    print(f"minimal case: {rec.folder}")
+    print(f"reproduce: {rec.command}")
+    return 1 if result.reproduced else 0

@@ -1,0 +1,270 @@
+"""``report.html``: the run's report as one self-contained file.
+
+No external assets: the style sheet is inline and every picture is a
+``data:image/png;base64`` URI, so the file can be mailed, attached to a CI
+run or opened from an archive.  Sections: the run, calls by status, failure
+rates by algorithm x variant x family, the findings, then every failure
+group with its picture, sizes and reproduce command.
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import math
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from ..results import STATUSES
+from ..triage.grouping import FailureGroup
+from .failures import FailureRecord
+from .findings import findings_reading
+from .tables import FAILED_STATUSES, failure_counts, status_counts
+
+__all__ = ["render_html", "png_data_uri", "rate_matrix"]
+
+_CSS = """
+body{font-family:system-ui,-apple-system,Segoe UI,Helvetica,Arial,sans-serif;margin:2em auto;max-width:75em;
+color:#222;line-height:1.4;padding:0 1em}
+h1{font-size:1.6em}h2{border-bottom:1px solid #ccc;padding-bottom:.2em;margin-top:2em}
+table{border-collapse:collapse;margin:.6em 0;font-size:.85em}
+th,td{border:1px solid #ccc;padding:.25em .5em;text-align:right;vertical-align:top}
+th{background:#f3f3f3}td.l,th.l{text-align:left}
+pre,code{font-family:ui-monospace,Menlo,Consolas,monospace;font-size:.85em}
+pre{background:#f6f8fa;border:1px solid #ddd;padding:.6em;overflow-x:auto;white-space:pre-wrap;word-break:break-all}
+.group{border:1px solid #ddd;border-radius:6px;padding:.8em 1em;margin:1.2em 0}
+.group img{max-width:100%;height:auto;border:1px solid #eee}
+.meta{color:#555}.bad{color:#b00}.ok{color:#080}
+dl{display:grid;grid-template-columns:max-content auto;gap:.2em 1em;margin:.6em 0}dt{font-weight:600}dd{margin:0}
+"""
+
+
+def png_data_uri(png: bytes) -> str:
+    """``data:image/png;base64,...`` for PNG bytes."""
+    return "data:image/png;base64," + base64.b64encode(png).decode("ascii")
+
+
+def _e(value: Any) -> str:
+    if value is None or (isinstance(value, float) and math.isnan(value)) or value is pd.NA:
+        return ""
+    return html.escape(str(value))
+
+
+def _table(df: pd.DataFrame, *, left: Sequence[str] = (), cell: Any = None) -> str:
+    """An HTML table; ``cell(column, value) -> (html, style)`` may style cells."""
+    if df.empty:
+        return "<p><em>(none)</em></p>"
+    cols = [str(c) for c in df.columns]
+    head = "".join(f'<th class="{"l" if c in left else ""}">{_e(c)}</th>' for c in cols)
+    body = []
+    for rec in df.itertuples(index=False):
+        tds = []
+        for c, v in zip(cols, rec):
+            text, style = (cell(c, v) if cell else (None, ""))
+            cls = ' class="l"' if c in left else ""
+            sty = f' style="{style}"' if style else ""
+            tds.append(f"<td{cls}{sty}>{text if text is not None else _e(v)}</td>")
+        body.append("<tr>" + "".join(tds) + "</tr>")
+    return f"<table><thead><tr>{head}</tr></thead><tbody>{''.join(body)}</tbody></table>"
+
+
+def _heat(rate: float) -> str:
+    """A background from white (0) to red (1); rates are in [0, 1]."""
+    if rate is None or (isinstance(rate, float) and math.isnan(rate)):
+        return ""
+    r = min(max(float(rate), 0.0), 1.0)
+    g = int(255 - 150 * r)
+    return f"background:rgb(255,{g},{g})"
+
+
+def rate_matrix(table: pd.DataFrame) -> pd.DataFrame:
+    """Failure rates with configs as rows and families as columns (``failed/calls`` strings kept separate).
+
+    Returns
+    -------
+    DataFrame
+        Index: config labels; columns: families; values: failure rate in [0, 1]
+        (NaN where the config did not run on the family).
+    """
+    if table.empty:
+        return pd.DataFrame()
+    failed = table["status"].isin(FAILED_STATUSES)
+    rates = failed.groupby([table["config"], table["generator"]], observed=True).mean()
+    return rates.unstack("generator").sort_index()
+
+
+def _rate_matrix_html(table: pd.DataFrame) -> str:
+    m = rate_matrix(table)
+    if m.empty:
+        return "<p><em>(no calls)</em></p>"
+    counts = table.groupby(["config", "generator"], observed=True)["status"].agg(
+        lambda s: f"{int(s.isin(FAILED_STATUSES).sum())}/{len(s)}")
+    head = "<th class=l>config \\ family</th>" + "".join(f"<th>{_e(c)}</th>" for c in m.columns)
+    rows = []
+    for config, rates in m.iterrows():
+        tds = [f"<td class=l><code>{_e(config)}</code></td>"]
+        for family, rate in rates.items():
+            if pd.isna(rate):
+                tds.append("<td></td>")
+            else:
+                tds.append(f'<td style="{_heat(rate)}" title="{_e(counts[(config, family)])} failed">{rate:.0%}</td>')
+        rows.append("<tr>" + "".join(tds) + "</tr>")
+    return f"<table><thead><tr>{head}</tr></thead><tbody>{''.join(rows)}</tbody></table>"
+
+
+def _pct_cell(column: str, value: Any) -> tuple[str | None, str]:
+    if column in ("rate", "failure_rate", "sphere_off", "sphere_on", "eps_scaled", "eps_fixed"):
+        if value is None or (isinstance(value, float) and math.isnan(value)):
+            return "", ""
+        return f"{float(value):.0%}", _heat(float(value))
+    return None, ""
+
+
+def _points_text(points: np.ndarray) -> str:
+    return "\n".join(", ".join(repr(float(x)) for x in row) for row in np.asarray(points).reshape(len(points), -1))
+
+
+def _group_html(rec: FailureRecord) -> str:
+    g = rec.group
+    sig = rec.signature
+    parts = [f'<section class="group" id="{_e(sig.slug)}">', f"<h3>{_e(sig.label)}</h3>"]
+    if rec.picture:
+        parts.append(f'<img src="{png_data_uri(rec.picture)}" alt="{_e(sig.label)}: minimal case">')
+    items = []
+    if g is not None:
+        items.append(("failures", f"{g.count} of {g.calls} calls ({g.cases} cases)"))
+    shrunk = f"{rec.original_size} &rarr; {rec.minimal_size} points"
+    shrunk += f" ({rec.shrink_calls} calls, {rec.shrink_seconds:.1f} s)" if rec.shrunk else " (not shrunk)"
+    items.append(("size", shrunk))
+    if rec.note:
+        items.append(("note", _e(rec.note)))
+    if rec.failed_checks:
+        items.append(("failed checks", _e(rec.failed_checks)))
+    if rec.reason:
+        items.append(("reason", _e(rec.reason)))
+    if rec.offending:
+        items.append(("offending", "<code>" + _e(", ".join(f"{k}: {list(v)}" for k, v in rec.offending.items()))
+                      + "</code>"))
+    verified = {True: '<span class="ok">yes</span>', False: '<span class="bad">NO</span>', None: "not checked"}
+    items.append(("reproduced from file", verified[rec.verified]))
+    items.append(("folder", f"<code>{_e(rec.folder)}</code>"))
+    parts.append("<dl>" + "".join(f"<dt>{k}</dt><dd>{v}</dd>" for k, v in items) + "</dl>")
+    if rec.command:
+        parts.append(f"<p>Reproduce (exits 1 while the failure persists):</p><pre>{_e(rec.command)}</pre>")
+    if len(rec.points) <= 64:
+        parts.append(f"<details><summary>minimal points ({len(rec.points)}, exact)</summary>"
+                     f"<pre>{_e(_points_text(rec.points))}</pre></details>")
+    parts.append("</section>")
+    return "\n".join(parts)
+
+
+def _groups_index(groups: Sequence[FailureGroup], records: Sequence[FailureRecord]) -> str:
+    """One row per group, worst first; a link to its section when it has one."""
+    by_slug = {r.signature.slug: r for r in records}
+    verified = {True: "yes", False: "NO", None: ""}
+    rows = []
+    for g in groups:
+        rec = by_slug.get(g.slug)
+        label = _e(g.signature.label)
+        rows.append({
+            "group": f'<a href="#{_e(g.slug)}">{label}</a>' if rec else label,
+            "failures": g.count, "calls": g.calls, "smallest": g.smallest_n_points,
+            "minimal": rec.minimal_size if rec else "", "verified": verified[rec.verified] if rec else "",
+        })
+    return _table(pd.DataFrame(rows), left=("group",), cell=lambda c, v: (v, "") if c == "group" else (None, ""))
+
+
+def render_html(
+    table: pd.DataFrame,
+    meta: Mapping[str, Any],
+    records: Sequence[FailureRecord],
+    findings: pd.DataFrame,
+    *,
+    notes: Sequence[str] = (),
+    groups: Sequence[FailureGroup] | None = None,
+) -> str:
+    """The whole report as one HTML string.
+
+    Parameters
+    ----------
+    table : DataFrame
+        The results table.
+    meta : mapping
+        ``run.json``'s content (run id, profile, seed, timings, completeness).
+    records : sequence of FailureRecord
+        One per failure group written, worst first.
+    findings : DataFrame
+        From :func:`hullstress.report.findings.findings_table`.
+    notes : sequence of str
+        Lines about how triage ran (budgets, groups not shrunk).
+    groups : sequence of FailureGroup, optional
+        Every failure group (default: those of ``records``); groups without a
+        record are listed in the index table without a section.
+
+    Returns
+    -------
+    str
+    """
+    run_id = str(meta.get("run_id", ""))
+    out = ["<!DOCTYPE html>", '<html lang="en">', "<head>", '<meta charset="utf-8">',
+           '<meta name="viewport" content="width=device-width, initial-scale=1">',
+           f"<title>hullstress report {_e(run_id)}</title>", f"<style>{_CSS}</style>", "</head>", "<body>"]
+    out.append(f"<h1>hullstress run {_e(run_id)}</h1>")
+    complete = meta.get("complete", True)
+    wall = (meta.get("timings") or {}).get("wall_seconds")
+    n_cases = int(table["case_id"].nunique()) if len(table) else 0
+    out.append(
+        f'<p class="meta">Profile <code>{_e(meta.get("profile"))}</code>, seed {_e(meta.get("seed"))}, '
+        f"{len(table)} calls over {n_cases} cases"
+        + (f", {float(wall):.1f} s" if wall is not None else "")
+        + ("" if complete else ', <strong class="bad">INCOMPLETE</strong> (interrupted or out of time budget)')
+        + ".</p>"
+    )
+    if groups is None:
+        groups = [r.group for r in records if r.group is not None]
+    failed = int(table["status"].isin(FAILED_STATUSES).sum()) if len(table) else 0
+    out.append(f"<p>{failed} failed calls in {len(groups)} failure groups "
+               f"(signature: algorithm, variant, failed check, family).</p>")
+
+    out.append('<h2 id="status">Calls by status</h2>')
+    totals = (table["status"].value_counts().reindex(list(STATUSES), fill_value=0) if len(table)
+              else pd.Series(0, index=list(STATUSES)))
+    out.append(_table(totals.rename_axis("status").reset_index(name="calls"), left=("status",)))
+    if len(table):
+        out.append("<h3>By algorithm and variant</h3>")
+        out.append(_table(status_counts(table, ["algorithm", "sphere", "eps"]),
+                          left=("algorithm", "sphere", "eps"), cell=_pct_cell))
+
+    out.append('<h2 id="rates">Failure rates by algorithm x variant x family</h2>')
+    out.append("<p>Share of calls ending in fail, error, timeout or crash (rejected degenerate input is "
+               "acceptable behaviour and not counted). Hover a cell for failed/calls.</p>")
+    out.append(_rate_matrix_html(table))
+    if len(table):
+        out.append("<h3>Failure counts (groups with a failure, worst first)</h3>")
+        out.append(_table(failure_counts(table), left=("algorithm", "sphere", "eps", "generator"), cell=_pct_cell))
+
+    out.append('<h2 id="findings">Findings: the seeds\' claims against this run</h2>')
+    out.append("<p>Claims: sphere projection tames coplanar and collinear inputs; an epsilon scaled to the "
+               "geometry keeps coplanar points on the hull. Failure rate per family and algorithm, with "
+               "sphere off vs on and eps scaled vs fixed (blank: the variant does not apply).</p>")
+    out.append("<ul>" + "".join(f"<li>{_e(line)}</li>" for line in findings_reading(findings)) + "</ul>")
+    out.append(_table(findings, left=("family", "algorithm"), cell=_pct_cell))
+
+    out.append(f'<h2 id="failures">Failure groups ({len(groups)})</h2>')
+    for line in notes:
+        out.append(f'<p class="meta">{_e(line)}</p>')
+    if groups:
+        out.append(_groups_index(groups, records))
+        out.extend(_group_html(r) for r in records)
+    else:
+        out.append("<p>No failures.</p>")
+    skipped = meta.get("skipped") or []
+    if skipped:
+        out.append(f"<h2>Cases not generated ({len(skipped)})</h2><ul>"
+                   + "".join(f"<li>{_e(s)}</li>" for s in skipped) + "</ul>")
+    out.append("</body>")
+    out.append("</html>")
+    return "\n".join(out) + "\n"

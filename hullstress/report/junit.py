@@ -1,0 +1,128 @@
+"""JUnit XML for CI systems: one test case per algorithm config x family.
+
+A test case fails when any of its calls failed (fail, error, timeout, crash).
+The ``<failure>`` element's message counts the failures by check; its text
+carries, for each failure group of that config and family, the minimal case
+(exact ``repr`` floats) and the one-line reproduce command.
+"""
+
+from __future__ import annotations
+
+import re
+import xml.etree.ElementTree as ET
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from ..triage.signature import signature_of
+from .failures import FailureRecord
+from .tables import FAILED_STATUSES
+
+__all__ = ["junit_xml", "write_junit"]
+
+# Characters XML 1.0 forbids even escaped (an exception message may hold any of them).
+_NOT_XML = re.compile("[^\x09\x0a\x0d\x20-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]")
+
+
+def _safe(text: str) -> str:
+    return _NOT_XML.sub("\ufffd", text)
+
+
+def _failure_text(records: Sequence[FailureRecord]) -> str:
+    blocks = []
+    for rec in records:
+        pts = "\n".join("  " + ", ".join(repr(float(x)) for x in row)
+                        for row in np.asarray(rec.points).reshape(len(rec.points), -1))
+        blocks.append(
+            f"{rec.signature.label}: {rec.group.count if rec.group else '?'} failures; "
+            f"minimal case {rec.minimal_size} points (from {rec.original_size})\n"
+            f"reason: {rec.reason}\n"
+            f"reproduce: {rec.command}\n"
+            f"folder: {rec.folder}\n"
+            f"points ({rec.minimal_size}):\n{pts}"
+        )
+    return "\n\n".join(blocks)
+
+
+def junit_xml(table: pd.DataFrame, records: Sequence[FailureRecord], *, suite: str = "hullstress") -> str:
+    """The JUnit XML document for a results table and its failure records.
+
+    Parameters
+    ----------
+    table : DataFrame
+        A results table.
+    records : sequence of FailureRecord
+        Written failure groups (their minimal cases go into the failures).
+    suite : str
+        Name of the ``<testsuites>`` root.
+
+    Returns
+    -------
+    str
+        ``<testsuites>`` with one ``<testsuite>`` per config label and one
+        ``<testcase classname=CONFIG name=FAMILY>`` per family it ran on.
+
+    Examples
+    --------
+    >>> t = pd.DataFrame({"config": "a[sphere=off,eps=n/a]", "algorithm": "a", "sphere": "off", "eps": "n/a",
+    ...                   "generator": ["dup", "dup"], "status": ["pass", "error"], "failed_checks": "",
+    ...                   "reason": ["", "ZeroDivisionError"], "seconds": 0.0, "check_seconds": 0.0})
+    >>> "failures=\\"1\\"" in junit_xml(t, [])
+    True
+    """
+    root = ET.Element("testsuites", name=suite)
+    total_tests = total_failures = 0
+    total_time = 0.0
+    by_key: dict[tuple[str, str, str, str], list[FailureRecord]] = {}
+    for rec in records:
+        s = rec.signature
+        by_key.setdefault((s.algorithm, s.sphere, s.eps, s.family), []).append(rec)
+    if len(table):
+        for config, sub in table.groupby("config", sort=True, observed=True):
+            ts = ET.SubElement(root, "testsuite", name=str(config))
+            n_tests = n_fail = 0
+            suite_time = 0.0
+            for family, rows in sub.groupby("generator", sort=True, observed=True):
+                seconds = float(rows["seconds"].fillna(0).sum() + rows["check_seconds"].fillna(0).sum())
+                tc = ET.SubElement(ts, "testcase", classname=str(config), name=str(family), time=f"{seconds:.3f}")
+                n_tests += 1
+                suite_time += seconds
+                failed = rows[rows["status"].isin(FAILED_STATUSES)]
+                if len(failed):
+                    n_fail += 1
+                    first = rows.iloc[0]
+                    key = (str(first["algorithm"]), str(first["sphere"]), str(first["eps"]), str(family))
+                    checks = pd.Series([signature_of(r).check for _, r in failed.iterrows()]).value_counts()
+                    message = (f"{len(failed)} of {len(rows)} calls failed: "
+                               + ", ".join(f"{c} ({n})" for c, n in checks.items()))
+                    el = ET.SubElement(tc, "failure", message=_safe(message), type=str(checks.index[0]))
+                    recs = by_key.get(key, [])
+                    el.text = _safe(_failure_text(recs) if recs else "reasons: " + "; ".join(
+                        dict.fromkeys(str(r) for r in failed["reason"].fillna(""))))
+                rejected = int((rows["status"] == "rejected").sum())
+                if rejected:
+                    ET.SubElement(tc, "system-out").text = f"{rejected} of {len(rows)} calls rejected (degenerate input)"
+            ts.set("tests", str(n_tests))
+            ts.set("failures", str(n_fail))
+            ts.set("errors", "0")
+            ts.set("skipped", "0")
+            ts.set("time", f"{suite_time:.3f}")
+            total_tests += n_tests
+            total_failures += n_fail
+            total_time += suite_time
+    root.set("tests", str(total_tests))
+    root.set("failures", str(total_failures))
+    root.set("errors", "0")
+    root.set("time", f"{total_time:.3f}")
+    ET.indent(root)
+    return '<?xml version="1.0" encoding="UTF-8"?>\n' + ET.tostring(root, encoding="unicode") + "\n"
+
+
+def write_junit(path: str | Path, table: pd.DataFrame, records: Sequence[FailureRecord]) -> Path:
+    """Write :func:`junit_xml` to ``path`` (parent folders created); returns the path."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(junit_xml(table, records), encoding="utf-8")
+    return path

@@ -1,0 +1,124 @@
+"""Grouping a results table's failing rows by signature."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import pandas as pd
+
+from .signature import FAILED_STATUSES, Signature, signature_of
+
+__all__ = ["FailureGroup", "group_failures", "groups_frame"]
+
+
+@dataclass(frozen=True)
+class FailureGroup:
+    """The failing rows that share one signature.
+
+    Attributes
+    ----------
+    signature : Signature
+    count : int
+        Failing calls with this signature.
+    cases : int
+        Distinct cases among them.
+    calls : int
+        All calls of this config on this family (the denominator of the rate).
+    smallest_case_id : str
+        The failing case with the fewest points (ties: first in table order).
+    smallest_n_points : int
+    representative_case_id : str
+        The first failing case in table order.
+    smallest_index : int
+        Table index of the smallest case's row (the row the group is shrunk from).
+    case_ids : tuple of str
+        Every failing case id, in table order.
+    reasons : tuple of str
+        Up to three distinct reasons, for the report.
+    """
+
+    signature: Signature
+    count: int
+    cases: int
+    calls: int
+    smallest_case_id: str
+    smallest_n_points: int
+    representative_case_id: str
+    smallest_index: int
+    case_ids: tuple[str, ...] = field(default=())
+    reasons: tuple[str, ...] = field(default=())
+
+    @property
+    def slug(self) -> str:
+        return self.signature.slug
+
+
+def group_failures(table: pd.DataFrame) -> list[FailureGroup]:
+    """Group the failing rows of a results table by :class:`Signature`.
+
+    Parameters
+    ----------
+    table : DataFrame
+        A results table (:data:`hullstress.results.ROW_COLUMNS`).
+
+    Returns
+    -------
+    list of FailureGroup
+        Most frequent first, then by signature (a stable order for reports).
+
+    Examples
+    --------
+    >>> import pandas as pd
+    >>> t = pd.DataFrame({"case_id": ["a", "b", "c"], "algorithm": "alg", "sphere": "off", "eps": "n/a",
+    ...                   "generator": "dup", "status": ["error", "error", "pass"], "reason": "",
+    ...                   "failed_checks": "", "n_points": [9, 4, 4]})
+    >>> [(g.signature.check, g.count, g.calls, g.smallest_case_id) for g in group_failures(t)]
+    [('error', 2, 3, 'b')]
+    """
+    if len(table) == 0:
+        return []
+    denominators = table.groupby(["algorithm", "sphere", "eps", "generator"], dropna=False).size()
+    failing = table[table["status"].isin(FAILED_STATUSES)]
+    buckets: dict[Signature, list[int]] = {}
+    for idx, row in failing.iterrows():
+        sig = signature_of(row)
+        if sig is not None:
+            buckets.setdefault(sig, []).append(idx)
+    groups = []
+    for sig, indices in buckets.items():
+        rows = failing.loc[indices]
+        n_points = pd.to_numeric(rows["n_points"], errors="coerce").fillna(0).astype(int)
+        # idxmin returns the first minimum, i.e. the earliest in table order among the smallest.
+        smallest = n_points.idxmin()
+        reasons = tuple(dict.fromkeys(str(r) for r in rows["reason"].fillna("") if str(r)))[:3]
+        case_ids = tuple(dict.fromkeys(rows["case_id"].astype(str)))
+        groups.append(
+            FailureGroup(
+                signature=sig,
+                count=len(indices),
+                cases=len(case_ids),
+                calls=int(denominators.get((sig.algorithm, sig.sphere, sig.eps, sig.family), len(indices))),
+                smallest_case_id=str(rows.at[smallest, "case_id"]),
+                smallest_n_points=int(n_points[smallest]),
+                representative_case_id=case_ids[0],
+                smallest_index=int(smallest),
+                case_ids=case_ids,
+                reasons=reasons,
+            )
+        )
+    groups.sort(key=lambda g: (-g.count, g.signature))
+    return groups
+
+
+def groups_frame(groups: list[FailureGroup]) -> pd.DataFrame:
+    """The groups as a table: signature columns, counts, rate, smallest and representative case."""
+    cols = ["algorithm", "sphere", "eps", "check", "family", "failures", "calls", "rate",
+            "cases", "smallest_case_id", "smallest_n_points", "representative_case_id", "slug"]
+    records = [
+        {**g.signature.as_dict(), "failures": g.count, "calls": g.calls,
+         "rate": round(g.count / g.calls, 3) if g.calls else 0.0, "cases": g.cases,
+         "smallest_case_id": g.smallest_case_id, "smallest_n_points": g.smallest_n_points,
+         "representative_case_id": g.representative_case_id, "slug": g.slug}
+        for g in groups
+    ]
+    return pd.DataFrame.from_records(records, columns=cols)

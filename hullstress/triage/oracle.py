@@ -1,0 +1,162 @@
+"""Does a case still fail the same way?  One judged call, isolated when possible.
+
+Shrinking and fuzzing call the code under test hundreds of times on point
+sets nobody has tried before, so a segfault or a hang is likely.  When the
+runner offers ``hullstress.runner.run_one`` (one call in a worker process with
+a timeout) every call goes through it.  Without it, calls run in this process
+through :func:`hullstress.evaluate.evaluate`, which is only safe for failures
+that return or raise (``fail`` and ``error``); reproducing a ``timeout`` or a
+``crash`` then raises :class:`IsolationUnavailable` instead of hanging or
+killing the caller.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+from ..case import Case
+from ..config import AlgorithmConfig
+from ..errors import HullstressError
+from ..results import ResultRow
+from .signature import Signature, signature_of
+
+__all__ = ["IsolationUnavailable", "isolated_runner", "run_config", "fails_same_way", "same_failure",
+           "error_kind", "DEFAULT_TIMEOUT"]
+
+#: Per-call timeout (seconds) for isolated calls when the caller gives none.
+DEFAULT_TIMEOUT = 10.0
+
+
+class IsolationUnavailable(HullstressError):
+    """A timeout or crash cannot be reproduced safely: no isolated runner (``run_one``) is available."""
+
+
+def isolated_runner() -> Callable[..., ResultRow] | None:
+    """``hullstress.runner.run_one`` when the runner provides it, else None.
+
+    Looked up on every call rather than once at import, so that a runner
+    loaded later (or patched in a test) is picked up.
+    """
+    from .. import runner
+
+    return getattr(runner, "run_one", None)
+
+
+def run_config(
+    case: Case,
+    config: AlgorithmConfig,
+    *,
+    timeout: float | None = None,
+    isolate: bool | None = None,
+    dangerous: bool = False,
+) -> ResultRow:
+    """Run and judge ``config`` on ``case`` once.
+
+    Parameters
+    ----------
+    case : Case
+    config : AlgorithmConfig
+    timeout : float, optional
+        Per-call timeout for the isolated call (default :data:`DEFAULT_TIMEOUT`).
+    isolate : bool, optional
+        ``None`` (default): isolated when ``run_one`` exists, else in-process.
+        ``True``: isolated or :class:`IsolationUnavailable`.  ``False``: in-process.
+    dangerous : bool
+        The call is expected to hang or crash (a timeout/crash signature): it
+        is never run in-process.
+
+    Returns
+    -------
+    ResultRow
+    """
+    run_one = isolated_runner() if isolate is not False else None
+    if run_one is not None:
+        return run_one(case, config, timeout=timeout if timeout is not None else DEFAULT_TIMEOUT)
+    if isolate or dangerous:
+        raise IsolationUnavailable(
+            f"reproducing {config.label} safely needs hullstress.runner.run_one "
+            f"(an isolated worker), which this installation does not provide"
+        )
+    from ..evaluate import evaluate
+
+    return evaluate(case, config)
+
+
+def fails_same_way(
+    case: Case,
+    config: AlgorithmConfig,
+    signature: Signature,
+    *,
+    timeout: float | None = None,
+    isolate: bool | None = None,
+    error: str | None = None,
+) -> bool:
+    """True when running ``config`` on ``case`` fails with ``signature``'s failed check.
+
+    The family is provenance, not behaviour: a shrunk or file-loaded copy of a
+    case fails "the same way" when the config and the failed check match.
+
+    Parameters
+    ----------
+    case : Case
+    config : AlgorithmConfig
+    signature : Signature
+    timeout, isolate
+        As in :func:`run_config`.
+    error : str, optional
+        For ``error`` signatures: also require this exception type (see :func:`same_failure`).
+
+    Examples
+    --------
+    A config that passes on a plain triangle does not fail "the same way" as
+    any signature:
+
+    >>> import hullstress  # doctest: +SKIP
+    >>> fails_same_way(Case.from_points([[0, 0], [1, 0], [0, 1]]), config, sig)  # doctest: +SKIP
+    False
+    """
+    row = run_config(case, config, timeout=timeout, isolate=isolate,
+                     dangerous=signature.check in ("timeout", "crash"))
+    return same_failure(row, signature, error=error)
+
+
+def error_kind(row: ResultRow | Any) -> str:
+    """For an ``error`` row, the exception's type name (``internal`` for harness errors); else ``""``.
+
+    Examples
+    --------
+    >>> error_kind({"status": "error", "reason": "ZeroDivisionError: division by zero"})
+    'ZeroDivisionError'
+    >>> error_kind({"status": "error", "reason": "internal: checker raised KeyError: 3"})
+    'internal'
+    """
+    if row.get("status") != "error":
+        return ""
+    reason = str(row.get("reason") or "")
+    if reason.startswith("internal:"):
+        return "internal"
+    return reason.split(":", 1)[0].strip()
+
+
+def same_failure(row: ResultRow | Any, signature: Signature, *, error: str | None = None) -> bool:
+    """True when ``row`` fails with ``signature``'s config and failed check (family ignored).
+
+    Parameters
+    ----------
+    row : ResultRow
+    signature : Signature
+    error : str, optional
+        For ``error`` signatures, the exception type the original raised
+        (:func:`error_kind`): a different exception is a different bug, and a
+        harness-internal error never stands in for the algorithm's.
+    """
+    sig = signature_of(row)
+    if sig is None or sig.check != signature.check:
+        return False
+    if (sig.algorithm, sig.sphere, sig.eps) != (signature.algorithm, signature.sphere, signature.eps):
+        return False
+    kind = error_kind(row)
+    if kind == "internal":
+        return False
+    return error is None or sig.check != "error" or kind == error

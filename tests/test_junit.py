@@ -1,0 +1,88 @@
+"""Tests for hullstress.report.junit: one test case per config x family, failures carry the minimal case."""
+
+from __future__ import annotations
+
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from hullstress.report.failures import FailureRecord
+from hullstress.report.junit import junit_xml, write_junit
+from hullstress.triage import Signature, group_failures
+
+
+def _table() -> pd.DataFrame:
+    rows = []
+    for config, alg, sphere in (("a[sphere=off,eps=n/a]", "a", "off"), ("a[sphere=on,eps=n/a]", "a", "on")):
+        for family, statuses in (("grid", ["pass", "fail", "fail"]), ("dup", ["pass", "rejected", "error"])):
+            for i, status in enumerate(statuses):
+                rows.append({
+                    "case_id": f"{family}{i}", "config": config, "algorithm": alg, "sphere": sphere, "eps": "n/a",
+                    "generator": family, "status": status, "n_points": 10 + i,
+                    "failed_checks": "containment" if status == "fail" else "",
+                    "reason": {"fail": "1 point outside", "error": "KeyError: 3\x00\x07"}.get(status, ""),
+                    "seconds": 0.01, "check_seconds": 0.02,
+                })
+    return pd.DataFrame(rows)
+
+
+def _record(sig: Signature, group, points) -> FailureRecord:
+    return FailureRecord(
+        signature=sig, folder=Path("/tmp/x") / sig.slug, command=f"python -m hullstress run --algorithm {sig.algorithm}",
+        points=np.asarray(points), original_size=12, minimal_size=len(points), shrunk=True, shrink_calls=40,
+        shrink_seconds=0.5, note="", verified=True, reason="1 point outside", failed_checks="containment",
+        offending={"containment": [2]}, picture=None, group=group,
+    )
+
+
+def test_one_testcase_per_config_and_family_with_failure_counts():
+    table = _table()
+    doc = ET.fromstring(junit_xml(table, []).split("\n", 1)[1])
+    assert doc.tag == "testsuites"
+    suites = doc.findall("testsuite")
+    assert sorted(s.get("name") for s in suites) == ["a[sphere=off,eps=n/a]", "a[sphere=on,eps=n/a]"]
+    cases = doc.findall("testsuite/testcase")
+    assert len(cases) == 4
+    assert {(c.get("classname"), c.get("name")) for c in cases} == {
+        (cfg, fam) for cfg in ("a[sphere=off,eps=n/a]", "a[sphere=on,eps=n/a]") for fam in ("grid", "dup")}
+    assert doc.get("tests") == "4" and doc.get("failures") == "4"
+    grid = [c for c in cases if c.get("name") == "grid"][0]
+    failure = grid.find("failure")
+    assert failure.get("message") == "2 of 3 calls failed: containment (2)"
+    assert failure.get("type") == "containment"
+    dup = [c for c in cases if c.get("name") == "dup"][0]
+    assert dup.find("failure").get("type") == "error"
+    assert "1 of 3 calls rejected" in dup.find("system-out").text
+    # Characters XML forbids were replaced, so the document parsed at all.
+    assert "\x00" not in dup.find("failure").text
+    assert abs(float(grid.get("time")) - 0.09) < 1e-6
+
+
+def test_failures_carry_the_minimal_case_exactly_and_the_command(tmp_path):
+    table = _table()
+    groups = {(g.signature.sphere, g.signature.family): g for g in group_failures(table)}
+    points = np.array([[0.1, 1e-300], [-3.0000000000000004, 2.0], [5e-324, -0.0]])
+    g = groups[("off", "grid")]
+    rec = _record(g.signature, g, points)
+    path = write_junit(tmp_path / "sub" / "junit.xml", table, [rec])
+    doc = ET.parse(path).getroot()
+    case = [c for c in doc.iter("testcase") if c.get("classname") == "a[sphere=off,eps=n/a]" and c.get("name") == "grid"][0]
+    text = case.find("failure").text
+    assert rec.command in text
+    lines = text.split("points (3):\n", 1)[1].splitlines()
+    back = np.array([[float(v) for v in line.split(",")] for line in lines])
+    assert np.array_equal(back, points) and np.signbit(back[2, 1])
+    # The other config's grid failure has no record: it lists reasons instead.
+    other = [c for c in doc.iter("testcase") if c.get("classname") == "a[sphere=on,eps=n/a]" and c.get("name") == "grid"][0]
+    assert other.find("failure").text.startswith("reasons: 1 point outside")
+
+
+def test_a_clean_table_has_no_failures():
+    table = _table()
+    table["status"] = "pass"
+    doc = ET.fromstring(junit_xml(table, []).split("\n", 1)[1])
+    assert doc.get("failures") == "0" and not doc.findall(".//failure")
+    empty = ET.fromstring(junit_xml(table.iloc[0:0], []).split("\n", 1)[1])
+    assert empty.get("tests") == "0"

@@ -1,0 +1,391 @@
+"""Tests for the run's report: report.html, failure folders, reproduce commands, findings, summary.
+
+A small sweep of throw-away plug-in algorithms (correct hulls from Qhull with
+bugs planted) over a plug-in generator, then :func:`finalize_run`.
+"""
+
+from __future__ import annotations
+
+import base64
+import io
+import json
+import os
+import shlex
+import shutil
+import subprocess
+import textwrap
+from html.parser import HTMLParser
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from hullstress.io import read_points
+from hullstress.plugins import load_plugin
+from hullstress.report.finalize import finalize_run
+from hullstress.report.pictures import PNG_SIGNATURE
+from hullstress.report.writer import run_metadata, write_report
+
+PLUGIN = textwrap.dedent(
+    '''
+    """Throw-away plug-ins for tests/test_report_html.py."""
+    import numpy as np
+    from scipy.spatial import ConvexHull
+
+    from hullstress import register_algorithm, register_generator
+
+
+    @register_generator("test-report-cloud", dims=(2, 3))
+    def cloud(rng, n, *, dim, spread=10.0):
+        """Uniform points in a box."""
+        return rng.uniform(-spread, spread, size=(n, dim))
+
+
+    def _outward(points, hull):
+        faces = []
+        centre = points[hull.vertices].mean(axis=0)
+        for tri in hull.simplices:
+            a, b, c = points[tri]
+            if np.dot(np.cross(b - a, c - a), a - centre) < 0:
+                tri = tri[[0, 2, 1]]
+            faces.append([int(i) for i in tri])
+        return faces
+
+
+    @register_algorithm("test-report-dropper", dim=2)
+    def dropper(points):
+        """Qhull's polygon minus its first vertex."""
+        return [int(i) for i in ConvexHull(points).vertices][1:]
+
+
+    @register_algorithm("test-report-raiser", dim=2)
+    def raiser(points, *, eps=None):
+        """Qhull's polygon, but raises when a point has x < 0."""
+        if float(points[:, 0].min()) < 0.0:
+            raise ZeroDivisionError("planted")
+        return [int(i) for i in ConvexHull(points).vertices]
+
+
+    @register_algorithm("test-report-holey", dim=3)
+    def holey(points):
+        """Qhull's triangles, outward, minus the first one (an open surface)."""
+        return _outward(points, ConvexHull(points))[1:]
+
+
+    @register_algorithm("test-report-good", dim=2)
+    def good(points):
+        """Qhull's polygon."""
+        return [int(i) for i in ConvexHull(points).vertices]
+    '''
+)
+
+
+@pytest.fixture(scope="module")
+def plugin(tmp_path_factory) -> Path:
+    path = tmp_path_factory.mktemp("report-plugin") / "report_plugins.py"
+    path.write_text(PLUGIN)
+    load_plugin(str(path))
+    return path
+
+
+def _sweep(tmp_path: Path, plugin: Path, algorithms: tuple[str, ...], *, sphere: str = "off"):
+    from hullstress.sweep import SweepOptions, run_sweep
+
+    options = SweepOptions(profile="quick", algorithms=algorithms, generators=("test-report-cloud",),
+                           sphere=sphere, eps="both", sizes=(12,), seed=5, workers=0)
+    result = run_sweep(options)
+    run_dir = tmp_path / "run"
+    run_dir.mkdir()
+    meta = run_metadata(run_id="test-run", arguments={"profile": "quick", "seed": 5, "plugin": [str(plugin)]},
+                        df=result.table, wall_seconds=1.0, complete=True, skipped=[])
+    write_report(run_dir, result.table, meta)
+    return run_dir, result, meta
+
+
+class _Structure(HTMLParser):
+    """Checks nesting and collects images, links and section ids."""
+
+    VOID = {"meta", "img", "br", "hr", "link", "input", "col", "source", "wbr"}
+
+    def __init__(self) -> None:
+        super().__init__(convert_charrefs=True)
+        self.stack: list[str] = []
+        self.errors: list[str] = []
+        self.images: list[dict[str, str]] = []
+        self.refs: list[str] = []
+        self.ids: list[str] = []
+        self.tags: list[str] = []
+        self.text: list[str] = []
+
+    def handle_starttag(self, tag, attrs):
+        a = dict(attrs)
+        self.tags.append(tag)
+        if tag == "img":
+            self.images.append(a)
+        for key in ("href", "src"):
+            if key in a and tag != "img":
+                self.refs.append(a[key])
+        if "id" in a:
+            self.ids.append(a["id"])
+        if tag not in self.VOID:
+            self.stack.append(tag)
+
+    def handle_startendtag(self, tag, attrs):
+        self.handle_starttag(tag, attrs)
+        if tag not in self.VOID:
+            self.stack.pop()
+
+    def handle_endtag(self, tag):
+        if tag in self.VOID:
+            return
+        if not self.stack or self.stack[-1] != tag:
+            self.errors.append(f"</{tag}> closes <{self.stack[-1] if self.stack else None}>")
+            return
+        self.stack.pop()
+
+    def handle_data(self, data):
+        self.text.append(data)
+
+
+def _check_html(path: Path) -> _Structure:
+    text = path.read_text(encoding="utf-8")
+    assert text.startswith("<!DOCTYPE html>")
+    parser = _Structure()
+    parser.feed(text)
+    parser.close()
+    assert not parser.errors, parser.errors[:5]
+    assert parser.stack == [], parser.stack
+    for tag in ("html", "head", "title", "style", "body", "h1", "table"):
+        assert tag in parser.tags, tag
+    assert "script" not in parser.tags and "link" not in parser.tags  # nothing external
+    assert all(ref.startswith("#") for ref in parser.refs), parser.refs
+    assert len(parser.ids) == len(set(parser.ids)), "duplicate ids"
+    for img in parser.images:
+        src = img["src"]
+        assert src.startswith("data:image/png;base64,"), src[:40]
+        png = base64.b64decode(src.split(",", 1)[1], validate=True)
+        assert png[:8] == PNG_SIGNATURE
+        from PIL import Image
+
+        with Image.open(io.BytesIO(png)) as im:
+            im.verify()
+        with Image.open(io.BytesIO(png)) as im:
+            assert im.size[0] > 100 and im.size[1] > 100
+        assert img.get("alt")
+    return parser
+
+
+@pytest.fixture(scope="module")
+def failing_run(tmp_path_factory, plugin):
+    tmp = tmp_path_factory.mktemp("report-run")
+    run_dir, result, meta = _sweep(tmp, plugin, ("test-report-dropper", "test-report-raiser",
+                                                 "test-report-holey", "test-report-good"))
+    out = finalize_run(run_dir, result.table, result.cases, meta, shrink_budget_seconds=40,
+                       group_budget_seconds=15, junit_path=tmp / "ci" / "junit.xml", plugins=[str(plugin)])
+    return run_dir, result, out
+
+
+def test_report_html_is_self_contained_and_every_picture_decodes(failing_run):
+    run_dir, result, out = failing_run
+    parser = _check_html(out["html"])
+    records = out["records"]
+    assert len(records) >= 3
+    # One section per failure group, each with its picture.
+    for rec in records:
+        assert rec.signature.slug in parser.ids
+    assert len(parser.images) == len(records)
+    text = " ".join(parser.text)
+    for rec in records:
+        assert rec.command in text
+    assert "Findings" in text and "Failure rates by algorithm x variant x family" in text
+    assert "budget 40 s in total and 15 s per group" in text
+
+
+def test_every_group_has_a_complete_failure_folder(failing_run):
+    run_dir, result, out = failing_run
+    table = result.table
+    folders = sorted(p.name for p in (run_dir / "failures").iterdir() if p.is_dir())
+    assert folders == sorted(r.signature.slug for r in out["records"])
+    expected_groups = {(r.algorithm, r.sphere, r.eps) for r in table[table["status"] != "pass"].itertuples()}
+    assert {(g.signature.algorithm, g.signature.sphere, g.signature.eps) for g in out["groups"]} == expected_groups
+    assert not any(g.signature.algorithm == "test-report-good" for g in out["groups"])
+    for rec in out["records"]:
+        folder = rec.folder
+        for name in ("points.npy", "points.csv", "case.json", "faces.json", "verdict.json", "picture.png",
+                     "reproduce.txt"):
+            assert (folder / name).is_file(), (folder, name)
+        npy = np.load(folder / "points.npy")
+        assert np.array_equal(read_points(folder / "points.csv"), npy)  # exact round trip
+        assert np.array_equal(npy, rec.points)
+        meta = json.loads((folder / "case.json").read_text())
+        assert meta["minimal_size"] == len(npy) <= meta["original_size"] == 12
+        assert meta["signature"] == rec.signature.as_dict()
+        assert meta["verified"] is True
+        assert (folder / "reproduce.txt").read_text().strip() == rec.command
+        verdict = json.loads((folder / "verdict.json").read_text())
+        faces = json.loads((folder / "faces.json").read_text())
+        if rec.signature.check == "error":
+            assert verdict["status"] == "error" and faces["faces"] is None
+        else:
+            assert verdict["status"] == "fail" and rec.signature.check in verdict["failed_checks"].split(",")
+            assert faces["faces"]
+        assert (folder / "picture.png").read_bytes()[:8] == PNG_SIGNATURE
+
+
+def test_planted_failures_shrink_small(failing_run):
+    _, _, out = failing_run
+    sizes = {r.signature.algorithm: r.minimal_size for r in out["records"]}
+    assert sizes["test-report-raiser"] == 3  # one far-left point plus two to make it non-degenerate
+    assert sizes["test-report-dropper"] <= 4
+    assert sizes["test-report-holey"] <= 5
+
+
+def test_every_reproduce_command_exits_1_as_printed(failing_run, tmp_path):
+    _, _, out = failing_run
+    commands = [r.command for r in out["records"]]
+    # From an unrelated directory: the commands must not depend on the cwd.
+    procs = [subprocess.Popen(cmd, shell=True, cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                              text=True) for cmd in commands]
+    for cmd, proc in zip(commands, procs):
+        stdout, stderr = proc.communicate(timeout=180)
+        assert proc.returncode == 1, (cmd, stdout[-2000:], stderr[-2000:])
+
+
+def test_summary_findings_and_junit(failing_run):
+    import xml.etree.ElementTree as ET
+
+    run_dir, result, out = failing_run
+    summary = (run_dir / "summary.md").read_text()
+    assert summary.startswith("# hullstress run")  # write_report's part is kept
+    assert f"## Failure groups ({len(out['groups'])})" in summary
+    assert "## Findings" in summary and "sphere projection" in summary
+    for rec in out["records"]:
+        assert rec.command in summary
+    findings = pd.read_csv(out["findings_csv"])
+    assert set(findings["algorithm"]) == set(result.table["algorithm"])
+    raiser = findings[findings["algorithm"] == "test-report-raiser"].iloc[0]
+    table = result.table
+    sub = table[table["algorithm"] == "test-report-raiser"]
+    expected = sub[sub["eps"] == "fixed"]["status"].isin(["fail", "error", "timeout", "crash"]).mean()
+    assert raiser["eps_fixed"] == pytest.approx(expected)
+    assert pd.isna(findings[findings["algorithm"] == "test-report-good"].iloc[0]["eps_fixed"])
+    doc = ET.parse(out["junit"]).getroot()
+    failing = {(c.get("classname"), c.get("name")) for c in doc.iter("testcase") if c.find("failure") is not None}
+    assert failing == {(g.signature.config.label, g.signature.family) for g in out["groups"]}
+    index = json.loads((run_dir / "failures" / "index.json").read_text())
+    assert len(index["folders"]) == len(out["records"])
+
+
+def test_a_clean_run_reports_no_failures(tmp_path, plugin):
+    run_dir, result, meta = _sweep(tmp_path, plugin, ("test-report-good",))
+    out = finalize_run(run_dir, result.table, result.cases, meta, junit_path=tmp_path / "junit.xml")
+    parser = _check_html(out["html"])
+    assert out["records"] == [] and parser.images == []
+    assert "No failures." in " ".join(parser.text)
+    assert not (run_dir / "failures").exists() or not any(p.is_dir() for p in (run_dir / "failures").iterdir())
+
+
+def test_no_shrink_keeps_the_smallest_case(tmp_path, plugin):
+    run_dir, result, meta = _sweep(tmp_path, plugin, ("test-report-raiser",))
+    out = finalize_run(run_dir, result.table, result.cases, meta, shrink=False, pictures=False)
+    assert out["records"] and all(r.minimal_size == r.original_size == 12 for r in out["records"])
+    assert all(not r.shrunk and "--no-shrink" in r.note for r in out["records"])
+    assert "Shrinking was turned off" in out["html"].read_text()
+
+
+@pytest.mark.skipif(shutil.which("chromium") is None and not os.path.exists("/usr/bin/chromium"),
+                    reason="no chromium on this machine: the report's structure and pictures are validated "
+                    "by the other tests instead")
+def test_report_renders_in_headless_chromium(failing_run, tmp_path):
+    _, _, out = failing_run
+    exe = shutil.which("chromium") or "/usr/bin/chromium"
+    shot = tmp_path / "shot.png"
+    cmd = [exe, "--headless", "--disable-gpu", "--no-sandbox", f"--screenshot={shot}", "--window-size=1200,3000",
+           out["html"].resolve().as_uri()]
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, (shlex.join(cmd), proc.stderr[-2000:])
+    assert shot.read_bytes()[:8] == PNG_SIGNATURE
+
+
+def test_time_budgets_drop_pictures_then_folders_and_say_so(tmp_path, plugin):
+    from hullstress.report.finalize import TriageBudget
+
+    run_dir, result, meta = _sweep(tmp_path, plugin, ("test-report-raiser", "test-report-dropper"))
+    no_pictures = TriageBudget(shrink_total=0.0, shrink_per_group=0.0, pictures=0.0, total=60.0)
+    out = finalize_run(run_dir, result.table, result.cases, meta, budget=no_pictures)
+    assert len(out["records"]) == len(out["groups"]) == 3
+    assert all(r.picture is None and not (r.folder / "picture.png").exists() for r in out["records"])
+    assert all("shrink budget was spent" in r.note for r in out["records"])
+    parser = _check_html(out["html"])
+    assert parser.images == []
+    assert any("3 groups have no picture" in n for n in out["notes"])
+
+    nothing = TriageBudget(shrink_total=0.0, shrink_per_group=0.0, pictures=0.0, total=0.0)
+    run2 = tmp_path / "run2"
+    run2.mkdir()
+    out = finalize_run(run2, result.table, result.cases, meta, budget=nothing)
+    assert out["records"] == []
+    assert any("3 more failure groups have no folder because the triage time budget" in n for n in out["notes"])
+    parser = _check_html(out["html"])
+    text = " ".join(parser.text)
+    for g in out["groups"]:
+        assert g.signature.label in text  # still listed, without a section
+        assert g.slug not in parser.ids
+
+
+PICTURE_INPUTS = [
+    # points, faces, dim, offending
+    (np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]]), [0, 2], 2, {"containment": [1]}),  # collinear
+    (np.array([[1e300, 0.0], [-1e300, 1e300], [0.0, -1e300]]), [0, 1, 2], 2, {"flipped_edges": [0]}),
+    (np.array([[0.0, 0.0], [np.nan, 1.0], [1.0, 1.0], [1.0, 0.0]]), [0, 2, 3], 2, {}),
+    (np.zeros((0, 2)), None, 2, {}),
+    (np.ones((4, 3)), [[0, 1, 2], [0, 2, 1]], 3, {"degenerate_faces": [0, 1]}),  # one point, repeated
+    (np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1.0]]), [[0, 2, 1], [0, 1, 3], [1, 2, 3]], 3,
+     {"manifold_faces": [2], "containment": [3], "missing_extreme": [9]}),  # out-of-range index ignored
+]
+
+
+@pytest.mark.parametrize("points, faces, dim, offending", PICTURE_INPUTS)
+def test_pictures_of_degenerate_and_extreme_inputs_decode(points, faces, dim, offending):
+    from PIL import Image
+
+    from hullstress.report.pictures import failure_picture
+
+    png = failure_picture(points, faces, dim=dim, offending=offending, title="t")
+    assert png[:8] == PNG_SIGNATURE
+    with Image.open(io.BytesIO(png)) as im:
+        assert im.size[0] > 100
+
+
+def test_split_offending_sorts_keys_into_points_faces_and_edges():
+    from hullstress.report.pictures import split_offending
+
+    pts, faces, edges = split_offending({"containment": [4], "missing_extreme": [1], "reflex_vertices": [2],
+                                         "manifold_faces": [0, 3], "degenerate_edges": [5]})
+    assert (pts, faces, edges) == ({1, 2, 4}, {0, 3}, {5})
+
+
+def test_findings_table_and_reading_on_a_hand_made_table():
+    from hullstress.report.findings import findings_reading, findings_table
+
+    rows = []
+    # alg-a: sphere on fixes coplanar-grid; alg-b: sphere on breaks it; eps only for alg-a.
+    for alg, eps_values in (("alg-a", ("scaled", "fixed")), ("alg-b", ("n/a",))):
+        for sphere in ("off", "on"):
+            for eps in eps_values:
+                for k in range(4):
+                    fails = (alg == "alg-a" and sphere == "off") or (alg == "alg-b" and sphere == "on" and k < 2)
+                    if alg == "alg-a" and eps == "fixed" and sphere == "on" and k == 0:
+                        fails = True
+                    rows.append({"generator": "coplanar-grid", "algorithm": alg, "sphere": sphere, "eps": eps,
+                                 "status": "fail" if fails else ("rejected" if k == 3 else "pass")})
+    f = findings_table(pd.DataFrame(rows)).set_index("algorithm")
+    assert f.loc["alg-a", "sphere_off"] == 1.0 and f.loc["alg-a", "sphere_on"] == 1 / 8
+    assert f.loc["alg-a", "eps_scaled"] == 0.5 and f.loc["alg-a", "eps_fixed"] == 5 / 8
+    assert f.loc["alg-b", "sphere_on"] == 0.5 and pd.isna(f.loc["alg-b", "eps_scaled"])
+    reading = findings_reading(f.reset_index())
+    sphere_line = [r for r in reading if r.startswith("sphere projection, degenerate families")][0]
+    assert "lower in 1, higher in 1, equal in 0 of 2" in sphere_line and "mixed effect" in sphere_line
+    eps_line = [r for r in reading if r.startswith("the scaled epsilon, degenerate families")][0]
+    assert "62.5% (fixed) vs 50.0% (scaled)" in eps_line and "helped on balance" in eps_line

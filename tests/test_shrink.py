@@ -1,0 +1,264 @@
+"""Tests for hullstress.triage.shrink: planted failures shrink to their cause, coordinates simplify."""
+
+from __future__ import annotations
+
+import argparse
+import shlex
+import textwrap
+
+import numpy as np
+import pytest
+
+from hullstress.case import Case
+from hullstress.config import AlgorithmConfig
+from hullstress.plugins import load_plugin
+from hullstress.triage import Signature, fails_same_way, run_config, shrink, signature_of
+from hullstress.triage.simplify import mantissa_bits
+
+#: Four points in convex position, with coordinates that need all 53 bits.
+PLANTED = np.array([[0.3, 0.1], [2.7, 0.45], [2.2, 3.3], [0.1, 2.9]])
+
+PLUGIN = textwrap.dedent(
+    '''
+    """Throw-away plug-ins for tests/test_shrink.py: correct hulls except on planted inputs."""
+    import numpy as np
+    from scipy.spatial import ConvexHull
+
+    from hullstress import register_algorithm
+
+    PLANTED = np.array(%r)
+
+
+    def _has_planted(points):
+        return all(bool(np.all(points == row, axis=1).any()) for row in PLANTED)
+
+
+    def _hull(points):
+        return [int(i) for i in ConvexHull(points).vertices]  # counter-clockwise in 2D
+
+
+    @register_algorithm("test-shrink-planted-error", dim=2)
+    def planted_error(points):
+        """Correct, but raises when the planted 4-point configuration is present."""
+        if _has_planted(points):
+            raise RuntimeError("planted configuration")
+        return _hull(points)
+
+
+    @register_algorithm("test-shrink-planted-drop", dim=2)
+    def planted_drop(points):
+        """Correct, but drops one hull vertex when the planted configuration is present."""
+        hull = _hull(points)
+        return hull[1:] if _has_planted(points) else hull
+
+
+    @register_algorithm("test-shrink-nan-blind", dim=2)
+    def nan_blind(points):
+        """Skips non-finite rows instead of rejecting the input."""
+        keep = np.flatnonzero(np.isfinite(points).all(axis=1))
+        return [int(keep[i]) for i in ConvexHull(points[keep]).vertices]
+
+
+    @register_algorithm("test-shrink-left", dim=2)
+    def left(points):
+        """Correct, but raises when some point has x < -0.5."""
+        if float(points[:, 0].min()) < -0.5:
+            raise ValueError("a point left of -0.5")
+        return _hull(points)
+    '''
+    % (PLANTED.tolist(),)
+)
+
+
+@pytest.fixture(scope="module", autouse=True)
+def plugin(tmp_path_factory):
+    path = tmp_path_factory.mktemp("shrink-plugin") / "shrink_plugins.py"
+    path.write_text(PLUGIN)
+    load_plugin(str(path))
+    return path
+
+
+def _hidden_case(n: int = 500, seed: int = 7) -> Case:
+    rng = np.random.default_rng(seed)
+    cloud = rng.uniform(-10, 10, size=(n - len(PLANTED), 2))
+    pts = np.vstack([cloud, PLANTED])
+    pts = pts[rng.permutation(n)]  # scatter the planted rows
+    return Case(points=pts, dim=2, family="test-planted", params={"n": n}, seed=seed, size=n)
+
+
+def _rows(points: np.ndarray) -> set[tuple[float, ...]]:
+    return {tuple(map(float, p)) for p in points}
+
+
+@pytest.mark.parametrize("algorithm, check", [("test-shrink-planted-error", "error"),
+                                              ("test-shrink-planted-drop", "containment")])
+def test_planted_four_points_hidden_in_500_shrink_to_at_most_6(algorithm, check):
+    case = _hidden_case()
+    config = AlgorithmConfig(algorithm)
+    row = run_config(case, config, timeout=30)
+    sig = signature_of(row)
+    assert sig is not None and sig.check == check, (row.status, row.get("reason"))
+    result = shrink(case, config, sig, budget_seconds=60, timeout=30)
+    assert result.reproduced and not result.exhausted, result.note
+    assert result.original_size == 500
+    assert result.minimal_size <= 6
+    # The failure needs exactly the planted rows, with their exact coordinates.
+    assert _rows(PLANTED) <= _rows(result.case.points), (result.steps, result.case.points.tolist(), result.row.get("reason"))
+    assert fails_same_way(result.case, config, sig)
+    assert result.row is not None and signature_of(result.row).check == check
+    assert result.case.params["shrunk_from"] == case.case_id and result.case.family == case.family
+
+
+def test_coordinates_are_simplified_when_the_failure_survives():
+    rng = np.random.default_rng(3)
+    pts = rng.uniform(-10, 10, size=(60, 2))
+    case = Case(points=pts, dim=2, family="test-left", seed=3, size=60)
+    config = AlgorithmConfig("test-shrink-left")
+    assert int(mantissa_bits(pts).max()) > 40
+    result = shrink(case, config, budget_seconds=30, timeout=30)
+    assert result.reproduced and result.signature.check == "error"
+    assert result.minimal_size == 3  # fewer points is degenerate, hence rejected, not an error
+    assert result.max_mantissa_bits <= 4, result.case.points.tolist()
+    assert result.case.points[:, 0].min() < -0.5
+    assert any("bits" in s or "simplified" in s for s in result.steps)
+    assert fails_same_way(result.case, config, result.signature)
+
+
+def test_call_budget_stops_early_with_a_case_that_still_fails():
+    case = _hidden_case(n=200, seed=1)
+    config = AlgorithmConfig("test-shrink-planted-error")
+    sig = Signature(config.algorithm, "off", "n/a", "error", case.family)
+    result = shrink(case, config, sig, budget_seconds=60, max_calls=4, timeout=30)
+    assert result.exhausted and result.calls <= 4
+    assert "budget" in result.note
+    assert result.minimal_size <= 200
+    assert fails_same_way(result.case, config, sig)
+
+
+def test_a_case_that_does_not_fail_is_returned_unshrunk():
+    case = Case.from_points([[0, 0], [1, 0], [0, 1], [1, 1], [0.5, 0.5]], family="test-clean")
+    config = AlgorithmConfig("test-shrink-planted-error")
+    result = shrink(case, config)
+    assert not result.reproduced and "does not fail" in result.note and result.case is case
+    sig = Signature(config.algorithm, "off", "n/a", "error", "test-clean")
+    again = shrink(case, config, sig)
+    assert not again.reproduced and "did not reproduce" in again.note and again.calls == 1
+
+
+def test_timeout_signature_without_isolation_is_not_run_in_process(monkeypatch):
+    import hullstress.runner as runner
+
+    monkeypatch.delattr(runner, "run_one", raising=False)
+    case = _hidden_case(n=20)
+    config = AlgorithmConfig("test-shrink-planted-error")
+    result = shrink(case, config, Signature(config.algorithm, "off", "n/a", "timeout", case.family))
+    assert not result.reproduced and "run_one" in result.note and result.calls == 0
+
+
+# --------------------------------------------------------------------------- the shrink subcommand
+
+
+def _cli(argv: list[str]) -> int:
+    from hullstress.cli import _shrink
+
+    parser = argparse.ArgumentParser(prog="hullstress")
+    _shrink.add_parser(parser.add_subparsers())
+    args = parser.parse_args(argv)
+    return args.handler(args)
+
+
+def test_shrink_command_writes_the_minimal_case_and_exits_1(plugin, tmp_path, capsys):
+    from hullstress.io import write_points
+
+    src = write_points(tmp_path / "case.csv", _hidden_case(n=80).points)
+    out = tmp_path / "out"
+    code = _cli(["shrink", str(src), "--algorithm", "test-shrink-planted-error", "--plugin", str(plugin),
+                 "--budget", "30", "--out", str(out)])
+    assert code == 1
+    printed = capsys.readouterr().out
+    assert "shrunk 80 -> 4 points" in printed
+    (folder,) = list((next(out.iterdir()) / "failures").iterdir())
+    assert _rows(np.load(folder / "points.npy")) == _rows(PLANTED)
+    assert (folder / "reproduce.txt").read_text().strip() in printed
+
+
+def test_shrink_command_exits_0_when_the_case_does_not_fail(plugin, tmp_path, capsys):
+    from hullstress.io import write_points
+
+    src = write_points(tmp_path / "clean.csv", np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]))
+    assert _cli(["shrink", str(src), "--algorithm", "test-shrink-planted-error", "--out", str(tmp_path)]) == 0
+    assert "does not reproduce" in capsys.readouterr().out
+    # A failure other than the one asked for does not count either.
+    src = write_points(tmp_path / "bad.csv", _hidden_case(n=20).points)
+    assert _cli(["shrink", str(src), "--algorithm", "test-shrink-planted-error", "--check", "containment",
+                 "--no-shrink"]) == 0
+    assert _cli(["shrink", str(src), "--algorithm", "test-shrink-planted-error", "--check", "error",
+                 "--no-shrink"]) == 1
+
+
+def test_invalid_input_failures_reproduce_through_the_raw_npy_command(plugin, tmp_path):
+    from hullstress.report.failures import write_failure_folder
+
+    pts = np.vstack([_hidden_case(n=30).points, [[np.nan, 1.0]]])
+    case = Case(points=pts, dim=2, family="test-nan", seed=0)
+    config = AlgorithmConfig("test-shrink-nan-blind")
+    result = shrink(case, config, budget_seconds=20, timeout=30)
+    assert result.signature.check == "invalid-input"
+    assert result.minimal_size == 4 and np.isnan(result.case.points).any()  # 3 finite points make a hull
+    rec = write_failure_folder(tmp_path / "failures", result, config, plugins=[str(plugin)], picture=True)
+    assert not (rec.folder / "points.csv").exists()  # the reader refuses NaN: only the .npy is exact
+    assert rec.verified is True
+    argv = shlex.split(rec.command)
+    start = argv.index("hullstress") + 1
+    assert argv[start] == "shrink" and "--raw" in argv and "--no-shrink" in argv
+    assert _cli(argv[start:]) == 1
+
+
+# --------------------------------------------------------------------------- in-house algorithms
+
+CLAIM_FAMILIES = ("kettner-classroom", "kettner-ulp-grid", "coplanar-grid")
+
+
+def _in_house_groups():
+    from hullstress._registry import algorithms, generators
+    from hullstress.sweep import SweepOptions, run_sweep
+    from hullstress.triage import group_failures
+
+    names = tuple(s.name for s in algorithms() if s.origin == "in-house")
+    families = tuple(f for f in CLAIM_FAMILIES if f in {g.name for g in generators()})
+    if not names or not families:
+        pytest.skip(f"in-house algorithms {names or 'none'} / families {families or 'none'} not registered yet")
+    result = run_sweep(SweepOptions(profile="quick", algorithms=names, generators=families, workers=2))
+    cases = {c.case_id: c for c in result.cases}
+    # Hangs cost a full timeout per call: the timeout groups are not shrunk here.
+    groups = [g for g in group_failures(result.table) if g.signature.check != "timeout"]
+    return groups, cases
+
+
+def _assert_shrinks_to_10(groups, cases, budget):
+    too_big = []
+    for g in groups:
+        res = shrink(cases[g.smallest_case_id], g.signature.config, g.signature, budget_seconds=budget, timeout=10)
+        assert res.reproduced, (g.signature.label, res.note)
+        assert fails_same_way(res.case, g.signature.config, g.signature, timeout=10)
+        if res.minimal_size > 10:
+            too_big.append((g.signature.label, res.original_size, res.minimal_size, res.exhausted))
+    assert not too_big, too_big
+
+
+def test_in_house_kettner_and_coplanar_failures_shrink_to_10_points_one_per_family():
+    groups, cases = _in_house_groups()
+    first: dict[str, object] = {}
+    for g in groups:
+        first.setdefault(g.signature.family, g)
+    if not first:
+        pytest.skip("the in-house algorithms did not fail on the Kettner and coplanar-grid families this run")
+    _assert_shrinks_to_10(list(first.values()), cases, budget=15)
+
+
+@pytest.mark.slow
+def test_in_house_kettner_and_coplanar_failures_shrink_to_10_points_every_group():
+    groups, cases = _in_house_groups()
+    if not groups:
+        pytest.skip("the in-house algorithms did not fail on the Kettner and coplanar-grid families this run")
+    _assert_shrinks_to_10(groups, cases, budget=30)
