@@ -103,7 +103,10 @@ def self_intersections(points: np.ndarray, poly: np.ndarray) -> np.ndarray:
     # Consecutive edges fold back when collinear and the far ends lie on the same side.
     c = points[np.roll(poly, -2)]
     col = orient2d(a, b, c) == 0
-    back = col & np.any(((a - b) * (c - b)) > 0, axis=1)  # same side on some axis: exact sign test
+    # Same side of b on some axis.  A float difference never has the wrong sign,
+    # but the product of two could underflow to 0 or overflow: compare signs.
+    with np.errstate(over="ignore"):  # an overflow to +-inf keeps the sign
+        back = col & np.any(np.sign(a - b) * np.sign(c - b) > 0, axis=1)
     bad |= back
     bad[np.flatnonzero(back) + 1 - k] = True
     lo, hi = np.minimum(a, b), np.maximum(a, b)
