@@ -43,6 +43,7 @@ import numpy as np
 from .case import Case
 from .errors import CorpusError
 from .results import ResultRow
+from .triage.signature import failed_check
 
 __all__ = [
     "FORMAT",
@@ -63,18 +64,17 @@ DEFAULT_CORPUS = Path("tests") / "corpus"
 
 
 def row_signature(row: ResultRow | Mapping[str, Any]) -> str:
-    """The verdict signature of a result row (what a corpus expectation records)."""
+    """The verdict signature of a result row (what a corpus expectation records).
+
+    ``pass`` / ``rejected`` / ``error`` / ``timeout`` / ``crash``, or for a
+    ``fail`` the failed check as triage names it: ``fail:containment``,
+    ``fail:contract``, ``fail:invalid-input`` ...
+    """
     values = row.values if isinstance(row, ResultRow) else row
-    status = values["status"]
+    status = str(values["status"])
     if status != "fail":
-        return str(status)
-    reason = str(values.get("reason") or "")
-    if reason.startswith("output contract:"):
-        return "fail:contract"
-    failed = str(values.get("failed_checks") or "")
-    if failed and failed != "<NA>":
-        return "fail:" + failed.split(",")[0]
-    return "fail:other"
+        return status
+    return "fail:" + str(failed_check(status, values.get("reason"), values.get("failed_checks")))
 
 
 def is_failure_signature(signature: str) -> bool:

@@ -131,7 +131,8 @@ def test_classify(expected, actual, outcome):
         ({"status": "pass"}, "pass"),
         ({"status": "crash", "reason": "killed by signal 11"}, "crash"),
         ({"status": "fail", "reason": "output contract: face 0 ...", "failed_checks": ""}, "fail:contract"),
-        ({"status": "fail", "reason": "x", "failed_checks": "convexity,containment"}, "fail:convexity"),
+        ({"status": "fail", "reason": "x", "failed_checks": "containment,convexity"}, "fail:convexity"),
+        ({"status": "fail", "reason": "returned a hull for invalid input", "failed_checks": ""}, "fail:invalid-input"),
     ],
 )
 def test_row_signature(row, signature):

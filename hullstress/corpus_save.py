@@ -1,0 +1,93 @@
+"""``run --save-corpus DIR``: minimised failures of a run become regression-corpus entries.
+
+One entry per failing (algorithm, family) pair, the smallest minimised case
+among that pair's failure groups; with ``--baseline`` only pairs with a group
+new against the baseline.  Each entry records the verdict signature of every
+algorithm config on its points (see :func:`hullstress.replay.add_to_corpus`),
+so replay notices when any of them changes.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Collection, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .case import Case
+from .corpus import provenance_for
+from .replay import add_to_corpus
+
+__all__ = ["corpus_signature", "select_for_corpus", "save_minimised_failures"]
+
+
+def corpus_signature(check: str) -> str:
+    """A triage signature's check as a corpus signature (``containment`` -> ``fail:containment``)."""
+    return check if check in ("error", "timeout", "crash") else f"fail:{check}"
+
+
+def select_for_corpus(records: Sequence[Any], new_groups: Collection[tuple[str, ...]] | None = None) -> list[Any]:
+    """The smallest minimised record per (algorithm, family), optionally only among new groups.
+
+    Parameters
+    ----------
+    records : sequence of FailureRecord
+        From :func:`hullstress.report.finalize.finalize_run`.
+    new_groups : collection of (algorithm, sphere, eps, family, signature), optional
+        Restrict to these failure groups (the ``new`` ones against a baseline).
+    """
+    best: dict[tuple[str, str], Any] = {}
+    for rec in records:
+        sig = rec.signature
+        if rec.points is None:  # no folder was written for this group
+            continue
+        if new_groups is not None and (sig.algorithm, sig.sphere, sig.eps, sig.family, corpus_signature(sig.check)) not in new_groups:
+            continue
+        key = (sig.algorithm, sig.family)
+        if key not in best or rec.minimal_size < best[key].minimal_size:
+            best[key] = rec
+    return [best[k] for k in sorted(best)]
+
+
+def save_minimised_failures(
+    directory: str | os.PathLike[str],
+    records: Sequence[Any],
+    cases: Sequence[Case],
+    *,
+    new_groups: Collection[tuple[str, ...]] | None = None,
+    workers: int = 0,
+    timeout: float = 10.0,
+    found_by: str = "hullstress run",
+) -> list[tuple[Path, bool]]:
+    """Add the selected minimised failures to the corpus in ``directory``.
+
+    Returns
+    -------
+    list of (path, written)
+        ``written`` is False for cases the corpus already held (same content hash).
+    """
+    by_id = {c.case_id: c for c in cases}
+    items: list[tuple[Case, dict]] = []
+    for rec in select_for_corpus(records, new_groups):
+        sig = rec.signature
+        group = getattr(rec, "group", None)
+        original = by_id.get(group.smallest_case_id) if group is not None else None
+        points = np.asarray(rec.points, dtype=np.float64)
+        dim = original.dim if original is not None else (points.shape[1] if points.ndim == 2 else 3)
+        case = Case(
+            points=points, dim=dim, family=sig.family,
+            params=original.params if original is not None else {},
+            seed=original.seed if original is not None else None,
+            size=original.size if original is not None else None,
+            source=f"minimised from {original.case_id}" if original is not None else "minimised",
+        )
+        prov = provenance_for(
+            case, found_by=found_by, original_size=rec.original_size,
+            extra={"signature": sig.slug, "original_case_id": original.case_id if original is not None else None},
+        )
+        items.append((case, prov))
+    if not items:
+        return []
+    return add_to_corpus(directory, items, workers=workers, timeout=timeout)
