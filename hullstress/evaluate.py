@@ -16,6 +16,7 @@ part:
 
 from __future__ import annotations
 
+import re
 import time
 import warnings
 from dataclasses import dataclass
@@ -108,7 +109,10 @@ def case_facts(case: Case, *, qhull: bool = True) -> CaseFacts:
 
 
 def _one_line(exc: BaseException) -> str:
-    text = " ".join(str(exc).split())
+    # Qhull appends "While executing: ... run-id <random>" to its errors; that
+    # tail differs between runs and would make identical runs' tables differ.
+    text = re.split(r"\s+While executing:", str(exc), maxsplit=1)[0]
+    text = " ".join(text.split())
     return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
 
 
@@ -170,8 +174,10 @@ def judge(case: Case, config: AlgorithmConfig, outcome: CallOutcome, facts: Case
         invalid_input=facts.invalid_input,
     )
     if outcome.kind == "raised":
-        # Any exception on an invalid or affinely degenerate input is acceptable behaviour.
-        status = "rejected" if (facts.invalid_input or facts.degenerate) else "error"
+        # Any exception on an invalid or affinely degenerate input is acceptable
+        # behaviour, except running out of memory or stack: that is no rejection.
+        resource = outcome.error.startswith(("MemoryError", "RecursionError"))
+        status = "rejected" if (facts.invalid_input or facts.degenerate) and not resource else "error"
         return make_row(case, config, status=status, reason=outcome.error, **common)
     if outcome.kind == "contract":
         return make_row(case, config, status="fail", reason=f"output contract: {outcome.error}", **common)

@@ -23,7 +23,7 @@ from .config import AlgorithmConfig, expand_configs
 from .errors import UsageError
 from .profiles import Profile, get_profile
 from .results import ResultRow, to_frame
-from .runner import ExecutionStats, RunnerOptions, Task, execute
+from .runner import DEFAULT_MEMORY_LIMIT_MB, ExecutionStats, RunnerOptions, Task, execute
 
 __all__ = ["SweepOptions", "SweepResult", "build_cases", "build_tasks", "case_seed", "run_sweep", "sort_table"]
 
@@ -44,6 +44,10 @@ class SweepOptions:
     timeout: float | None = None
     time_budget: float | None = None
     qhull: bool = True
+    #: Dask scheduler address; None runs on this machine.
+    scheduler: str | None = None
+    #: Address-space limit per isolated worker in MiB (0 or None: none).
+    memory_limit_mb: float | None = DEFAULT_MEMORY_LIMIT_MB
 
     @property
     def profile_spec(self) -> Profile:
@@ -52,7 +56,8 @@ class SweepOptions:
     def runner_options(self) -> RunnerOptions:
         workers = self.workers if self.workers is not None else (os.cpu_count() or 1)
         timeout = self.timeout if self.timeout is not None else self.profile_spec.timeout
-        return RunnerOptions(workers=workers, timeout=timeout, time_budget=self.time_budget, qhull=self.qhull)
+        return RunnerOptions(workers=workers, timeout=timeout, time_budget=self.time_budget, qhull=self.qhull,
+                             scheduler=self.scheduler, memory_limit_mb=self.memory_limit_mb)
 
 
 @dataclass

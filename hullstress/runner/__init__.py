@@ -2,74 +2,192 @@
 
 Backends share :func:`execute`'s contract: call ``on_row`` once per (case,
 config) as results arrive, in any order; the sweep sorts the table afterwards.
+
+* ``workers=0``: in this process, no isolation (debugging); the timeout
+  interrupts Python code with SIGALRM but not a hang inside C code.
+* ``workers=N``: N isolated worker processes on this machine (the default,
+  one per core).  Each call runs under ``timeout``; a hang becomes a
+  ``timeout`` row, a dead worker a ``crash`` row naming the signal or exit
+  code, and the worker is replaced while the sweep goes on.  Each worker has
+  an address-space limit so a runaway allocation fails inside it.
+* ``scheduler="tcp://host:8786"``: the same tasks on a Dask cluster, each
+  through an isolated worker process on the Dask worker.
+
+Every verdict depends only on the case and the config, never on the backend,
+the number of workers or the order tasks finish in.  See
+:mod:`hullstress.runner._pool` for the start method and its reasons.
 """
 
 from __future__ import annotations
 
+import atexit
+import sys
+import threading
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
 
 from ..case import Case
 from ..config import AlgorithmConfig
-from ..evaluate import call_algorithm, case_facts, judge
+from ..errors import HullstressError
+from ..evaluate import CaseFacts
 from ..results import ResultRow
+from ._pool import PendingJob, PoolSettings, WorkerPool, start_method
+from ._protocol import algorithm_refs
+from ._serial import run_serial
+from ._types import DEFAULT_CHECK_TIMEOUT, DEFAULT_MEMORY_LIMIT_MB, ExecutionStats, RunnerOptions, Task
 
-__all__ = ["Task", "RunnerOptions", "ExecutionStats", "execute"]
-
-
-@dataclass(frozen=True)
-class Task:
-    """A case and the configs to run on it (the points travel to a worker once per task)."""
-
-    index: int
-    case: Case
-    configs: tuple[AlgorithmConfig, ...]
-
-
-@dataclass(frozen=True)
-class RunnerOptions:
-    """How to execute: parallelism, isolation limits, budget.
-
-    Attributes
-    ----------
-    workers : int
-        0 runs in this process without isolation (debugging); N >= 1 uses N workers.
-    timeout : float
-        Per-call timeout in seconds.
-    time_budget : float or None
-        Stop starting new calls after this many seconds.
-    qhull : bool
-        Compute Qhull references (needed for the agreement check).
-    """
-
-    workers: int = 0
-    timeout: float = 10.0
-    time_budget: float | None = None
-    qhull: bool = True
+__all__ = [
+    "Task",
+    "RunnerOptions",
+    "ExecutionStats",
+    "execute",
+    "run_one",
+    "DEFAULT_MEMORY_LIMIT_MB",
+    "DEFAULT_CHECK_TIMEOUT",
+]
 
 
-@dataclass
-class ExecutionStats:
-    """What the backend measured: wall time, and whether the budget cut the sweep short."""
-
-    wall_seconds: float = 0.0
-    budget_exhausted: bool = False
-    calls_started: int = 0
-    notes: list[str] = field(default_factory=list)
+def _platform_notes(options: RunnerOptions) -> list[str]:
+    if options.memory_limit_bytes and not sys.platform.startswith("linux"):
+        return [f"memory limit {options.memory_limit_mb:g} MB is best effort on {sys.platform} (RLIMIT_AS)"]
+    return []
 
 
 def execute(tasks: Sequence[Task], options: RunnerOptions, on_row: Callable[[ResultRow], None]) -> ExecutionStats:
-    """Run every task in this process, in order (no isolation, no timeout)."""
-    stats = ExecutionStats()
+    """Run every config of every task and hand each row to ``on_row`` as it arrives.
+
+    Parameters
+    ----------
+    tasks : sequence of Task
+        Cases with the configs to run on each.
+    options : RunnerOptions
+        Backend (``workers``, ``scheduler``), limits and budget.
+    on_row : callable
+        Called once per finished call, in arrival order.  An exception from it
+        (KeyboardInterrupt, a SIGTERM handler's) stops the run and kills the workers.
+
+    Returns
+    -------
+    ExecutionStats
+        Backend, wall time, calls, busy times, harness overhead, restarts, budget.
+
+    Raises
+    ------
+    UsageError
+        When an algorithm cannot be sent to workers, or the scheduler is unreachable.
+
+    Examples
+    --------
+    A task on a degenerate case (three collinear points) with no configs runs nothing:
+
+    >>> from hullstress.case import Case
+    >>> task = Task(0, Case.from_points([[0, 0], [1, 1], [2, 2]]), ())
+    >>> execute([task], RunnerOptions(workers=0), print).calls_done
+    0
+    """
+    tasks = list(tasks)
     start = time.perf_counter()
-    for task in tasks:
-        if options.time_budget is not None and time.perf_counter() - start > options.time_budget:
-            stats.budget_exhausted = True
-            break
-        facts = case_facts(task.case, qhull=options.qhull)
-        for config in task.configs:
-            stats.calls_started += 1
-            on_row(judge(task.case, config, call_algorithm(task.case, config), facts))
-    stats.wall_seconds = time.perf_counter() - start
-    return stats
+    deadline = time.time() + options.time_budget if options.time_budget is not None else None
+    if options.scheduler is not None:
+        from ._dask import run_dask
+
+        stats = ExecutionStats(backend="dask", start_method=start_method(), notes=_platform_notes(options))
+        run_dask(tasks, options, on_row, stats, deadline)
+    elif options.workers == 0:
+        stats = ExecutionStats(backend="serial", workers=1)
+        run_serial(tasks, options, on_row, stats, deadline)
+    else:
+        settings = PoolSettings(timeout=options.timeout, check_timeout=options.effective_check_timeout,
+                                qhull=options.qhull, budget_deadline=deadline, refs=algorithm_refs(tasks))
+        pool = WorkerPool(max(1, min(options.workers, len(tasks))), memory_limit_bytes=options.memory_limit_bytes)
+        stats = ExecutionStats(backend="local", start_method=start_method(), workers=pool.size,
+                               notes=_platform_notes(options))
+        try:
+            pool.run([PendingJob(t) for t in tasks], settings, on_row, stats)
+        finally:
+            pool.close()
+    return stats.finish(time.perf_counter() - start)
+
+
+# -- one isolated call at a time (the shrinker's oracle) ----------------------
+
+_solo_lock = threading.Lock()
+_solo: WorkerPool | None = None
+
+
+def _solo_pool(limit_bytes: int | None) -> WorkerPool:
+    global _solo
+    if _solo is not None and _solo.memory_limit_bytes != limit_bytes:
+        _solo.close()
+        _solo = None
+    if _solo is None:
+        _solo = WorkerPool(1, memory_limit_bytes=limit_bytes)
+    return _solo
+
+
+@atexit.register
+def _close_solo() -> None:
+    global _solo
+    with _solo_lock:
+        if _solo is not None:
+            _solo.close()
+            _solo = None
+
+
+def run_one(
+    case: Case,
+    config: AlgorithmConfig,
+    *,
+    timeout: float,
+    facts: CaseFacts | None = None,
+    memory_limit_mb: float | None = DEFAULT_MEMORY_LIMIT_MB,
+    qhull: bool = True,
+    check_timeout: float | None = None,
+) -> ResultRow:
+    """Run and judge one config on one case in an isolated worker process.
+
+    One persistent worker serves every call (replaced when a call kills it or
+    times out), so a call costs a round trip and the work itself, not a new
+    process: the shrinker calls this hundreds of times.  Calls from several
+    threads are serialised.
+
+    Parameters
+    ----------
+    case : Case
+    config : AlgorithmConfig
+    timeout : float
+        Limit on the call in seconds; beyond it the row is ``timeout``.
+    facts : CaseFacts, optional
+        Precomputed facts for ``case`` (skips recomputing validity, rank and the Qhull reference).
+    memory_limit_mb : float or None
+        Address-space limit of the worker in MiB (None or 0: none).
+    qhull : bool
+        Compute the Qhull reference when ``facts`` is not given.
+    check_timeout : float, optional
+        Limit on the checker; default ``max(60, 10 * timeout)``.
+
+    Returns
+    -------
+    ResultRow
+        With any status, ``timeout`` and ``crash`` included; never raises for
+        what the algorithm does.
+
+    Examples
+    --------
+    >>> from hullstress import AlgorithmConfig, Case  # doctest: +SKIP
+    >>> square = Case.from_points([[0, 0], [1, 0], [1, 1], [0, 1], [0, 1]])  # doctest: +SKIP
+    >>> run_one(square, AlgorithmConfig("monotone-chain"), timeout=5.0).status  # doctest: +SKIP
+    'pass'
+    """
+    options = RunnerOptions(workers=1, timeout=timeout, qhull=qhull, memory_limit_mb=memory_limit_mb,
+                            check_timeout=check_timeout)
+    task = Task(0, case, (config,))
+    settings = PoolSettings(timeout=options.timeout, check_timeout=options.effective_check_timeout,
+                            qhull=qhull, refs=algorithm_refs([task]))
+    rows: list[ResultRow] = []
+    with _solo_lock:
+        pool = _solo_pool(options.memory_limit_bytes)
+        pool.run([PendingJob(task, facts=facts)], settings, rows.append, ExecutionStats(backend="local"))
+    if len(rows) != 1:
+        raise HullstressError(f"internal: run_one expected 1 row for {config.label}, got {len(rows)}")
+    return rows[0]

@@ -1,0 +1,496 @@
+"""A pool of isolated worker processes with per-call timeouts, replaced one by one when they die.
+
+Why not ``concurrent.futures``: a process pool there cannot kill one hung
+worker, and a dead worker breaks the whole pool.  Here every worker is a
+``multiprocessing.Process`` with its own duplex pipe; the parent waits on all
+pipes and process sentinels at once, kills a worker whose call overruns, and
+starts a fresh one for the rest of that worker's tasks.
+
+Start method: ``forkserver`` (``spawn`` where it does not exist).  Plain
+``fork`` would be faster to set up and would inherit every registered
+plug-in, but it copies the parent mid-flight: the parent may run threads (a
+Dask worker's event loop, a progress bar, BLAS pools), and a child forked
+while another thread holds a lock can deadlock (Python 3.12 warns about
+exactly this).  The fork server is a clean single-threaded process that has
+imported NumPy, SciPy and hullstress once (``_preload``), so a new worker is
+a cheap fork of it.  The price is that workers do not inherit algorithms
+registered at run time: each job carries an :class:`AlgorithmRef` per
+algorithm, and the worker imports the defining module (``--plugin`` files by
+path) or unpickles the spec.  As with any ``spawn``/``forkserver`` program, a
+script that runs a sweep must guard its entry point with
+``if __name__ == "__main__":`` (workers import the main module).
+
+Workers start with ``PYTHONHASHSEED=0`` (:data:`WORKER_ENV`): string hashing,
+and so the iteration order of sets of strings in the code under test, is the
+same in every worker, run and backend.
+
+Messages and their meaning are in :mod:`hullstress.runner._protocol`.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import os
+import pickle
+import threading
+import time
+from collections import deque
+from collections.abc import Callable, Iterable
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+from multiprocessing.connection import Connection, wait
+from typing import Any, Iterator
+
+from ..evaluate import CaseFacts
+from ..results import ResultRow
+from ._protocol import AlgorithmRef, Job, death_reason, emit_row, row_for
+from ._types import ExecutionStats, Task
+from ._worker import worker_main
+
+__all__ = ["WorkerPool", "PoolSettings", "PendingJob", "start_method"]
+
+#: A job message this small may wait in a busy worker's pipe (prefetch): it
+#: fits the socket buffer, so sending it never blocks the parent.
+PREFETCH_MAX_BYTES = 32 * 1024
+#: Jobs queued per worker: the one running plus one waiting in its pipe.
+PREFETCH_DEPTH = 2
+#: A task whose worker dies this often outside any call is given up on.
+MAX_DEATHS_OUTSIDE_CALLS = 2
+
+_PRELOAD = ["hullstress.runner._preload", "__main__"]
+_context_lock = threading.Lock()
+_context: Any = None
+# Starting a child flips the (process-wide) daemon flag in a daemonic parent; serialise starts.
+_start_lock = threading.Lock()
+
+
+def start_method() -> str:
+    """The multiprocessing start method workers use: ``forkserver`` where available, else ``spawn``."""
+    return _get_context().get_start_method()
+
+
+def _get_context() -> Any:
+    global _context
+    with _context_lock:
+        if _context is None:
+            if "forkserver" in multiprocessing.get_all_start_methods():
+                ctx = multiprocessing.get_context("forkserver")
+                # Takes effect only if the fork server is not running yet;
+                # otherwise workers import what they need themselves (slower starts).
+                ctx.set_forkserver_preload(_PRELOAD)
+            else:
+                ctx = multiprocessing.get_context("spawn")
+            _context = ctx
+        return _context
+
+
+#: Environment every worker process starts with (unless the user set these).
+#: A fixed hash seed makes ``set``/``dict`` order of strings and bytes the
+#: same in every worker, run and backend, so code under test that iterates
+#: such a set (Qhull's option list in scipy does) behaves the same everywhere.
+WORKER_ENV = {"PYTHONHASHSEED": "0"}
+
+
+@contextmanager
+def _worker_environment() -> Iterator[None]:
+    """Set :data:`WORKER_ENV` while a child (or the fork server) is spawned; restore afterwards."""
+    added = [k for k in WORKER_ENV if k not in os.environ]
+    for key in added:
+        os.environ[key] = WORKER_ENV[key]
+    try:
+        yield
+    finally:
+        for key in added:
+            os.environ.pop(key, None)
+
+
+@contextmanager
+def _children_allowed() -> Iterator[None]:
+    """Let a daemonic process (a Dask nanny's worker) start worker processes.
+
+    multiprocessing refuses children of daemonic processes so that they cannot
+    be orphaned.  Ours are daemonic themselves, exit at EOF on their pipe and
+    (on Linux) are killed with their parent, so they cannot outlive this process.
+    """
+    me = multiprocessing.current_process()
+    if not me.daemon:
+        yield
+        return
+    me.daemon = False
+    try:
+        yield
+    finally:
+        me.daemon = True
+
+
+@dataclass(frozen=True)
+class PoolSettings:
+    """Per-run limits and context the pool needs to build jobs and rows.
+
+    Attributes
+    ----------
+    timeout : float
+        Per-call limit in seconds.
+    check_timeout : float
+        Limit on each trusted step (facts, one check) and on a worker's silence between steps.
+    qhull : bool
+    budget_deadline : float or None
+        ``time.time()`` after which no new call starts.
+    refs : mapping of str to AlgorithmRef
+        For every algorithm the tasks use.
+    """
+
+    timeout: float
+    check_timeout: float
+    qhull: bool = True
+    budget_deadline: float | None = None
+    refs: dict[str, AlgorithmRef] = field(default_factory=dict)
+
+    def budget_over(self) -> bool:
+        return self.budget_deadline is not None and time.time() >= self.budget_deadline
+
+
+@dataclass
+class PendingJob:
+    """A task the parent still owes rows for, and where to resume it."""
+
+    task: Task
+    start_at: int = 0
+    facts: CaseFacts | None = None
+    deaths: int = 0
+    # The pickled job for ``start_at`` (a job that waits for an idle worker is looked at many times).
+    wire: tuple[int, bytes] | None = field(default=None, repr=False)
+
+    @property
+    def finished(self) -> bool:
+        return self.start_at >= len(self.task.configs)
+
+
+class _Slot:
+    """One worker process and what the parent knows about its progress."""
+
+    def __init__(self, index: int) -> None:
+        self.index = index
+        self.proc: Any = None
+        self.conn: Connection | None = None
+        self.jobs: deque[PendingJob] = deque()
+        self.reset_state()
+
+    def reset_state(self) -> None:
+        # phase: "idle" (no job), "setup" (job sent, nothing heard), "facts",
+        # "between" (between steps), "call", "check"
+        self.phase = "idle"
+        self.k = -1
+        self.t0 = time.monotonic()
+        self.call_seconds = 0.0
+        self.facts_info: tuple[bool | None, str | None] = (None, None)
+
+    @property
+    def alive(self) -> bool:
+        return self.proc is not None
+
+
+class WorkerPool:
+    """Isolated worker processes that run tasks and survive whatever the code under test does.
+
+    Parameters
+    ----------
+    size : int
+        Number of worker processes (started on first use, replaced when they die).
+    memory_limit_bytes : int or None
+        Address-space limit for each worker.
+
+    Notes
+    -----
+    A pool can be reused across :meth:`run` calls (the single-call runner and
+    the Dask backend keep one alive); :meth:`close` stops its workers.  If
+    :meth:`run` is interrupted (Ctrl-C, SIGTERM) every worker is killed, so
+    no call keeps running after the sweep stopped.
+    """
+
+    def __init__(self, size: int, *, memory_limit_bytes: int | None = None) -> None:
+        if size < 1:
+            raise ValueError(f"size must be at least 1, got {size}")
+        self.memory_limit_bytes = memory_limit_bytes
+        self._slots = [_Slot(i) for i in range(size)]
+        self.restarts = 0
+
+    @property
+    def size(self) -> int:
+        return len(self._slots)
+
+    # -- worker processes -------------------------------------------------
+
+    def _start(self, slot: _Slot) -> None:
+        ctx = _get_context()
+        parent_end, child_end = ctx.Pipe(duplex=True)
+        proc = ctx.Process(target=worker_main, args=(child_end, self.memory_limit_bytes),
+                           name=f"hullstress-worker-{slot.index}", daemon=True)
+        with _start_lock, _children_allowed(), _worker_environment():
+            proc.start()
+        child_end.close()
+        slot.proc, slot.conn = proc, parent_end
+        slot.reset_state()
+
+    def _kill(self, slot: _Slot) -> int | None:
+        """Kill (if still running) and reap ``slot``'s worker; return its exit code."""
+        proc = slot.proc
+        if proc is None:
+            return None
+        if proc.is_alive():
+            proc.kill()
+        proc.join(5.0)
+        code = proc.exitcode
+        if slot.conn is not None:
+            slot.conn.close()
+        try:
+            proc.close()
+        except ValueError:
+            pass  # still running after SIGKILL and 5 s: leave it to the OS
+        slot.proc, slot.conn = None, None
+        return code
+
+    def close(self) -> None:
+        """Stop every worker (politely, then by force)."""
+        for slot in self._slots:
+            if slot.proc is None:
+                continue
+            try:
+                assert slot.conn is not None
+                slot.conn.send(None)
+            except (OSError, ValueError):
+                pass
+        deadline = time.monotonic() + 1.0
+        for slot in self._slots:
+            if slot.proc is not None:
+                slot.proc.join(max(0.0, deadline - time.monotonic()))
+                self._kill(slot)
+            slot.jobs.clear()
+            slot.reset_state()
+
+    def kill_all(self) -> None:
+        """Kill every worker at once (interruption)."""
+        for slot in self._slots:
+            if slot.proc is not None and slot.proc.is_alive():
+                slot.proc.kill()
+        for slot in self._slots:
+            self._kill(slot)
+            slot.jobs.clear()
+            slot.reset_state()
+
+    # -- running ----------------------------------------------------------
+
+    def run(
+        self,
+        jobs: Iterable[PendingJob],
+        settings: PoolSettings,
+        on_row: Callable[[ResultRow], None],
+        stats: ExecutionStats,
+    ) -> None:
+        """Run ``jobs`` to completion (or until the budget), calling ``on_row`` per row as it arrives.
+
+        Parameters
+        ----------
+        jobs : iterable of PendingJob
+        settings : PoolSettings
+        on_row : callable
+            Receives every row; may raise (e.g. KeyboardInterrupt) to stop the run.
+        stats : ExecutionStats
+            Updated in place: calls, busy times, restarts, budget.
+        """
+        queue: deque[PendingJob] = deque(j for j in jobs if not j.finished)
+        try:
+            self._loop(queue, settings, on_row, stats)
+        except BaseException:
+            self.kill_all()
+            raise
+
+    def _loop(self, queue: deque[PendingJob], settings: PoolSettings,
+              on_row: Callable[[ResultRow], None], stats: ExecutionStats) -> None:
+        while True:
+            self._fill(queue, settings, stats)
+            busy = [s for s in self._slots if s.jobs]
+            if not busy:
+                if queue:  # only the budget leaves work unsent
+                    stats.budget_exhausted = True
+                return
+            now = time.monotonic()
+            next_deadline = min(s.t0 + self._limit(s, settings) for s in busy)
+            waitables: dict[Any, _Slot] = {}
+            for s in busy:
+                waitables[s.conn] = s
+                waitables[s.proc.sentinel] = s
+            ready = wait(list(waitables), timeout=max(0.0, next_deadline - now))
+            dead = {id(waitables[r]) for r in ready if not isinstance(r, Connection)}
+            for s in dict.fromkeys(waitables[r] for r in ready):
+                # Read everything the worker sent before looking at how it ended:
+                # the last "start" names the call that was running when it died.
+                if not self._drain(s, settings, on_row, stats) or id(s) in dead:
+                    self._on_death(s, queue, settings, on_row, stats, kill_reason=None)
+            now = time.monotonic()
+            for s in busy:
+                if s.jobs and s.alive and now - s.t0 > self._limit(s, settings):
+                    # Messages may be waiting that end the overrun step: read them first.
+                    if not self._drain(s, settings, on_row, stats):
+                        self._on_death(s, queue, settings, on_row, stats, kill_reason=None)
+                    elif s.jobs and time.monotonic() - s.t0 > self._limit(s, settings):
+                        self._on_death(s, queue, settings, on_row, stats, kill_reason="limit")
+
+    @staticmethod
+    def _limit(slot: _Slot, settings: PoolSettings) -> float:
+        return settings.timeout if slot.phase == "call" else settings.check_timeout
+
+    def _fill(self, queue: deque[PendingJob], settings: PoolSettings, stats: ExecutionStats) -> None:
+        """Send jobs to workers with room, least loaded first."""
+        broken: set[int] = set()
+        while queue:
+            if settings.budget_over():
+                stats.budget_exhausted = True
+                return
+            open_slots = [s for s in self._slots if s.index not in broken]
+            if not open_slots:
+                return
+            slot = min(open_slots, key=lambda s: len(s.jobs))
+            if len(slot.jobs) >= PREFETCH_DEPTH:
+                return
+            job = queue[0]
+            payload = self._payload(job, settings)
+            if slot.jobs and len(payload) > PREFETCH_MAX_BYTES:
+                return  # large: it waits until a worker is idle, so the send cannot block
+            queue.popleft()
+            if not slot.alive:
+                self._start(slot)
+            assert slot.conn is not None
+            try:
+                slot.conn.send_bytes(payload)
+            except OSError:
+                # The worker is gone; nothing of this job ran.
+                queue.appendleft(job)
+                if slot.jobs:
+                    # It died during an earlier job: the main loop reads what it
+                    # sent and records the call it died in before replacing it.
+                    broken.add(slot.index)
+                else:
+                    self._restart_after_death(slot, stats)
+                continue
+            if not slot.jobs:
+                slot.phase, slot.t0 = "setup", time.monotonic()
+            slot.jobs.append(job)
+
+    @staticmethod
+    def _payload(job: PendingJob, settings: PoolSettings) -> bytes:
+        if job.wire is not None and job.wire[0] == job.start_at:
+            return job.wire[1]
+        names = dict.fromkeys(c.algorithm for c in job.task.configs[job.start_at:])
+        refs = tuple(settings.refs[n] for n in names if n in settings.refs)
+        wire = Job(task=job.task, start_at=job.start_at, qhull=settings.qhull, facts=job.facts,
+                   refs=refs, budget_deadline=settings.budget_deadline)
+        payload = pickle.dumps(wire, protocol=pickle.HIGHEST_PROTOCOL)
+        job.wire = (job.start_at, payload)
+        return payload
+
+    def _drain(self, slot: _Slot, settings: PoolSettings, on_row: Callable[[ResultRow], None],
+               stats: ExecutionStats) -> bool:
+        """Handle every message waiting from ``slot``; False when the worker is gone."""
+        conn = slot.conn
+        assert conn is not None
+        try:
+            while conn.poll():
+                self._handle(slot, conn.recv(), settings, on_row, stats)
+        except (EOFError, OSError, pickle.UnpicklingError):
+            return False
+        return True
+
+    def _handle(self, slot: _Slot, msg: tuple[Any, ...], settings: PoolSettings,
+                on_row: Callable[[ResultRow], None], stats: ExecutionStats) -> None:
+        kind = msg[0]
+        job = slot.jobs[0]
+        if kind == "start":
+            slot.phase, slot.k, slot.t0 = "call", msg[1], msg[2]
+            stats.calls_started += 1
+        elif kind == "called":
+            slot.phase, slot.t0, slot.call_seconds = "check", msg[2], msg[3]
+        elif kind == "row":
+            slot.phase, slot.t0 = "between", time.monotonic()
+            job.start_at = msg[1] + 1
+            emit_row(msg[2], on_row, stats)
+        elif kind == "facts-start":
+            slot.phase, slot.t0 = "facts", msg[1]
+        elif kind == "facts":
+            slot.phase, slot.t0 = "between", time.monotonic()
+            slot.facts_info = (msg[1], msg[2])
+            stats.facts_seconds += msg[3]
+        elif kind == "stopped":
+            stats.budget_exhausted = True
+            job.start_at = len(job.task.configs)
+        elif kind == "done":
+            slot.jobs.popleft()
+            slot.reset_state()
+            if slot.jobs:
+                slot.phase = "setup"
+        else:
+            raise pickle.UnpicklingError(f"unknown worker message {kind!r}")
+
+    def _on_death(self, slot: _Slot, queue: deque[PendingJob], settings: PoolSettings,
+                  on_row: Callable[[ResultRow], None], stats: ExecutionStats, *, kill_reason: str | None) -> None:
+        """Record what the worker was doing when it died (or was killed), requeue the rest, replace it."""
+        phase, k, t0, facts_info = slot.phase, slot.k, slot.t0, slot.facts_info
+        call_seconds = slot.call_seconds
+        limit = self._limit(slot, settings)
+        jobs = list(slot.jobs)
+        elapsed = time.monotonic() - t0
+        code = self._kill(slot)
+        how = death_reason(code)
+        if jobs:
+            job = jobs[0]
+            task, n = job.task, len(job.task.configs)
+            origin = self._origin(task, k, settings) if 0 <= k < n else None
+            if phase == "call":
+                if kill_reason:
+                    row = row_for(task, k, status="timeout", reason=f"exceeded {float(settings.timeout)} s",
+                                  origin=origin, facts_info=facts_info, seconds=elapsed)
+                else:
+                    row = row_for(task, k, status="crash", reason=how, origin=origin,
+                                  facts_info=facts_info, seconds=elapsed)
+                job.start_at = k + 1
+                emit_row(row, on_row, stats)
+            elif phase == "check":
+                why = f"exceeded {limit:g} s" if kill_reason else f"crashed ({how})"
+                emit_row(row_for(task, k, status="error", reason=f"internal: checker {why}", origin=origin,
+                              facts_info=facts_info, seconds=call_seconds, check_seconds=elapsed), on_row, stats)
+                job.start_at = k + 1
+            elif phase == "facts":
+                why = f"exceeded {limit:g} s" if kill_reason else f"crashed ({how})"
+                self._give_up(job, f"internal: case facts {why}", settings, on_row, stats)
+            else:
+                job.deaths += 1
+                if job.deaths >= MAX_DEATHS_OUTSIDE_CALLS:
+                    why = f"stalled for {limit:g} s" if kill_reason else f"died ({how})"
+                    self._give_up(job, f"internal: worker {why} outside any call, {job.deaths} times",
+                                  settings, on_row, stats)
+            if job.finished:
+                jobs = jobs[1:]
+            # The rest goes first to the next free worker (which recomputes the case facts).
+            queue.extendleft(reversed(jobs))
+        self._restart_after_death(slot, stats)
+
+    def _restart_after_death(self, slot: _Slot, stats: ExecutionStats) -> None:
+        if slot.proc is not None:
+            self._kill(slot)
+        slot.jobs.clear()
+        slot.reset_state()
+        self.restarts += 1
+        stats.worker_restarts += 1
+        # The replacement starts lazily, when the next job is sent to this slot.
+
+    @staticmethod
+    def _origin(task: Task, k: int, settings: PoolSettings) -> str | None:
+        ref = settings.refs.get(task.configs[k].algorithm)
+        return ref.origin if ref is not None else None
+
+    def _give_up(self, job: PendingJob, reason: str, settings: PoolSettings,
+                 on_row: Callable[[ResultRow], None], stats: ExecutionStats) -> None:
+        for k in range(job.start_at, len(job.task.configs)):
+            emit_row(row_for(job.task, k, status="error", reason=reason, origin=self._origin(job.task, k, settings),
+                          facts_info=(None, None)), on_row, stats)
+        job.start_at = len(job.task.configs)

@@ -1,0 +1,101 @@
+"""The isolated worker process: receives jobs on a pipe, sends protocol messages back.
+
+A worker runs untrusted code, so it is set up to fail in recordable ways:
+
+* an address-space limit (``RLIMIT_AS``) turns a runaway allocation into
+  ``MemoryError`` (an ``error`` row) or, failing that, into the death of this
+  process (a ``crash`` row) instead of the machine swapping or the OOM killer
+  picking a victim;
+* SIGINT is ignored: Ctrl-C in a terminal reaches the whole process group,
+  and it is the parent's job to stop the sweep and kill the workers;
+* on Linux, ``PR_SET_PDEATHSIG`` kills it when its parent (the fork server)
+  goes, so a worker stuck in a hang cannot outlive a killed run;
+* BLAS/OpenMP pools are limited to one thread: the parallelism is the workers.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import sys
+from multiprocessing.connection import Connection
+
+__all__ = ["worker_main", "THREAD_ENV"]
+
+#: Environment that keeps numerical libraries single-threaded inside a worker.
+THREAD_ENV = {
+    "OMP_NUM_THREADS": "1",
+    "OPENBLAS_NUM_THREADS": "1",
+    "MKL_NUM_THREADS": "1",
+    "VECLIB_MAXIMUM_THREADS": "1",
+    "NUMEXPR_NUM_THREADS": "1",
+}
+
+
+def _die_with_parent() -> None:
+    if not sys.platform.startswith("linux"):
+        return
+    try:
+        import ctypes
+
+        libc = ctypes.CDLL(None, use_errno=True)
+        pr_set_pdeathsig = 1
+        libc.prctl(pr_set_pdeathsig, int(signal.SIGKILL), 0, 0, 0)
+    except (OSError, AttributeError):
+        pass  # best effort: the pipe's EOF still ends an idle worker
+
+
+def _limit_memory(limit_bytes: int | None) -> None:
+    if not limit_bytes:
+        return
+    try:
+        import resource
+    except ImportError:  # not POSIX
+        return
+    soft, hard = resource.getrlimit(resource.RLIMIT_AS)
+    if hard != resource.RLIM_INFINITY:
+        limit_bytes = min(limit_bytes, hard)
+    try:
+        resource.setrlimit(resource.RLIMIT_AS, (limit_bytes, hard))
+    except (ValueError, OSError):
+        pass  # e.g. macOS refuses RLIMIT_AS: the run's notes say limits are best effort
+
+
+def worker_main(conn: Connection, limit_bytes: int | None) -> None:
+    """Serve jobs from ``conn`` until it sends None or closes.
+
+    Parameters
+    ----------
+    conn : multiprocessing.connection.Connection
+        Receives pickled :class:`~hullstress.runner._protocol.Job` objects (or
+        None to stop); protocol messages go back on it.
+    limit_bytes : int or None
+        Address-space limit for this process.
+    """
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    _die_with_parent()
+    for key, value in THREAD_ENV.items():
+        os.environ.setdefault(key, value)
+    _limit_memory(limit_bytes)
+
+    from .._registry import load_builtins
+    from ._protocol import ensure_algorithm, run_job
+
+    load_builtins()
+    problems: dict[str, str | None] = {}
+    while True:
+        try:
+            job = conn.recv()
+        except (EOFError, OSError):
+            return  # the parent is gone
+        if job is None:
+            return
+        for ref in job.refs:
+            if ref.name not in problems:
+                problems[ref.name] = ensure_algorithm(ref)
+        known = {name: why for name, why in problems.items() if why is not None}
+        try:
+            for message in run_job(job, known):
+                conn.send(message)
+        except (BrokenPipeError, ConnectionResetError):
+            return
