@@ -147,7 +147,9 @@ def _table_without_timing(run_dir: Path) -> pd.DataFrame:
 
 def test_quick_profile_determinism_across_worker_counts(tmp_path):
     """Two runs with the same seed give identical tables whatever --workers is (timings aside)."""
-    args = ["run", "--seed", "5", "--out", str(tmp_path), "--quiet", "--sizes", "12"]
+    families = ["uniform", "coplanar-grid", "duplicates", "bad-input", "kettner-classroom", "cube-faces"]
+    args = ["run", "--seed", "5", "--out", str(tmp_path), "--quiet", "--sizes", "12", "--no-shrink"]
+    args += [f"--generator={f}" for f in families]
     first = run_cli(*args, "--workers", "1")
     second = run_cli(*args, "--workers", "2")
     assert first.returncode in (0, 1) and second.returncode == first.returncode, first.stderr + second.stderr
