@@ -149,6 +149,7 @@ def finalize_run(
     notes: list[str] = []
     spent = picture_seconds = 0.0
     not_shrunk = missing = no_picture = 0
+    picture_failures: list[str] = []
     out_of_time = False
     for group in groups[:max_folders]:
         if time.perf_counter() - start > limits.total:
@@ -185,11 +186,16 @@ def finalize_run(
         )
         if pictures and picture_seconds < limits.pictures:
             t0 = time.perf_counter()
-            record = draw_picture(record)
+            try:
+                record = draw_picture(record)
+            except Exception as exc:  # a picture is a nicety: never lose the report for it
+                picture_failures.append(f"{group.signature.slug}: {type(exc).__name__}: {exc}")
             picture_seconds += time.perf_counter() - t0
         else:
             no_picture += 1
         records.append(record)
+    if picture_failures:
+        notes.append(f"{len(picture_failures)} pictures could not be drawn (first: {picture_failures[0]}).")
     if shrink:
         notes.append(f"Shrinking: ddmin over points, then coordinate simplification; budget {total_budget:g} s "
                      f"in total and {per_group:g} s per group, {spent:.1f} s used; "

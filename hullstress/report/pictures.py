@@ -54,11 +54,13 @@ def _normalised(points: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
     if len(pts) == 0:
         return np.zeros((0, points.shape[1] if points.ndim == 2 else 2)), finite, 1.0
     lo, hi = pts.min(axis=0), pts.max(axis=0)
-    centre = lo / 2 + hi / 2  # halves first: no overflow near the float maximum
-    with np.errstate(over="ignore", invalid="ignore"):
-        span = float(np.max(hi / 2 - lo / 2)) * 2
-    scale = span if np.isfinite(span) and span > 0 else 1.0
-    return (pts - centre) / scale, finite, scale
+    # Halves throughout: near the float maximum, hi - lo and pts - centre overflow.
+    centre = lo / 2 + hi / 2
+    half = float(np.max(hi / 2 - lo / 2))
+    if not (np.isfinite(half) and half > 0):
+        return pts - centre, finite, 1.0
+    with np.errstate(under="ignore"):
+        return (pts / 2 - centre / 2) / half, finite, 2 * half
 
 
 def _limits(values: np.ndarray) -> tuple[float, float]:
@@ -132,7 +134,7 @@ def failure_picture(
     else:
         ax = fig.add_subplot()
         _draw_2d(ax, norm[:, :2], rows, faces, bad_points, bad_edges, label_points)
-    note = f"centred, scaled by 1/{scale:.3g}"
+    note = f"centred, scaled by 1/{scale:.3g}" if np.isfinite(scale) else "centred, scaled by 2**-1024"
     if not finite.all():
         note += f"; {int((~finite).sum())} non-finite rows not drawn"
     ax.set_title(f"{title}\n({note})" if title else f"({note})", fontsize=9)
