@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import shutil
 import signal
 import sys
 import time
@@ -168,6 +169,12 @@ def run_command(args: argparse.Namespace) -> int:
     except (KeyboardInterrupt, _Terminated):
         interrupted, complete = True, False
         table = sort_table(to_frame(rows), [c.case_id for c in cases])
+    except UsageError:
+        # e.g. an unreachable --scheduler: nothing ran, so leave no empty run folder behind.
+        stream.close(remove=True)
+        if not rows:
+            shutil.rmtree(run_dir, ignore_errors=True)
+        raise
     finally:
         signal.signal(signal.SIGTERM, previous)
         progress.close()
