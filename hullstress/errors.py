@@ -8,6 +8,8 @@ with the message on one line; anything else escaping is an internal error
 
 from __future__ import annotations
 
+import re
+
 __all__ = [
     "HullstressError",
     "UsageError",
@@ -18,6 +20,7 @@ __all__ = [
     "AlgorithmStepLimit",
     "CorpusError",
     "GeneratorValueError",
+    "one_line",
 ]
 
 
@@ -58,3 +61,20 @@ class CorpusError(HullstressError):
 
 class GeneratorValueError(UsageError, ValueError):
     """A generator argument out of range, e.g. too few points for the family (also a ValueError)."""
+
+
+def one_line(exc: BaseException) -> str:
+    """``TypeName: message`` on one line: the form of every ``reason`` in a results table.
+
+    Qhull appends "While executing: ... run-id <random>" to its errors; that
+    tail differs between runs and would make identical runs' tables differ, so
+    it is cut.
+
+    Examples
+    --------
+    >>> one_line(ValueError("need\\n3 points"))
+    'ValueError: need 3 points'
+    """
+    text = re.split(r"\s+While executing:", str(exc), maxsplit=1)[0]
+    text = " ".join(text.split())
+    return f"{type(exc).__name__}: {text}" if text else type(exc).__name__

@@ -16,7 +16,6 @@ part:
 
 from __future__ import annotations
 
-import re
 import time
 import warnings
 from dataclasses import dataclass
@@ -27,7 +26,7 @@ import numpy as np
 from .case import Case
 from .config import NO_EPS, AlgorithmConfig
 from .contract import FaceSet, normalize_output
-from .errors import ContractViolation
+from .errors import ContractViolation, one_line
 from .results import ResultRow, make_row
 from .tolerance import tolerance
 
@@ -108,14 +107,6 @@ def case_facts(case: Case, *, qhull: bool = True) -> CaseFacts:
     return CaseFacts(invalid_input=None, affine_rank=rank, degenerate=rank < case.dim, reference=reference)
 
 
-def _one_line(exc: BaseException) -> str:
-    # Qhull appends "While executing: ... run-id <random>" to its errors; that
-    # tail differs between runs and would make identical runs' tables differ.
-    text = re.split(r"\s+While executing:", str(exc), maxsplit=1)[0]
-    text = " ".join(text.split())
-    return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
-
-
 def call_algorithm(case: Case, config: AlgorithmConfig) -> CallOutcome:
     """Run ``config`` on ``case``: sphere preprocessing, eps policy, the call, the output contract.
 
@@ -146,7 +137,7 @@ def call_algorithm(case: Case, config: AlgorithmConfig) -> CallOutcome:
             warnings.simplefilter("ignore")
             raw = spec.func(points, **kwargs)
     except (Exception, RecursionError) as exc:  # the code under test may raise anything
-        return CallOutcome("raised", error=_one_line(exc), seconds=time.perf_counter() - start, eps_value=eps_value)
+        return CallOutcome("raised", error=one_line(exc), seconds=time.perf_counter() - start, eps_value=eps_value)
     seconds = time.perf_counter() - start
     try:
         faces = normalize_output(raw, len(points), case.dim)
@@ -197,7 +188,7 @@ def judge(case: Case, config: AlgorithmConfig, outcome: CallOutcome, facts: Case
         verdict = check(case.points, outcome.faces, reference=facts.reference, qhull=facts.reference is not None)
     except Exception as exc:  # a checker bug must not lose the row, nor blame the algorithm silently
         return make_row(
-            case, config, status="error", reason=f"internal: checker raised {_one_line(exc)}",
+            case, config, status="error", reason=f"internal: checker raised {one_line(exc)}",
             check_seconds=time.perf_counter() - start, **common,
         )
     check_seconds = time.perf_counter() - start

@@ -22,6 +22,8 @@ from __future__ import annotations
 import importlib
 from dataclasses import dataclass
 
+from ..errors import one_line
+
 __all__ = ["available_adapters", "missing_adapters"]
 
 
@@ -42,11 +44,6 @@ _ADAPTERS = (
 )
 
 
-def _one_line(exc: BaseException) -> str:
-    text = " ".join(str(exc).split())
-    return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
-
-
 def _probe(adapter: _Adapter) -> tuple[tuple[str, ...], str | None]:
     """Import one adapter module; return (registered names, None) or ((), reason)."""
     try:
@@ -59,7 +56,7 @@ def _probe(adapter: _Adapter) -> tuple[tuple[str, ...], str | None]:
             return (), f"{adapter.library} not installed ({adapter.install})"
         # Installed but unusable (a broken build, a missing shared library, an
         # incompatible version): still optional, but say exactly what failed.
-        return (), f"{adapter.library} failed to import: {_one_line(exc)}"
+        return (), f"{adapter.library} failed to import: {one_line(exc)}"
     return tuple(module.ALGORITHM_NAMES), None
 
 

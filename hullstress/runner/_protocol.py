@@ -38,7 +38,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from .._registry import ALGORITHMS, AlgorithmSpec, get_algorithm
-from ..errors import UsageError
+from ..errors import UsageError, one_line
 from ..evaluate import CaseFacts, call_algorithm, case_facts, judge
 from ..results import ResultRow, make_row
 from ._types import ExecutionStats, Task
@@ -54,12 +54,6 @@ __all__ = [
     "one_line",
     "row_for",
 ]
-
-
-def one_line(exc: BaseException) -> str:
-    """``TypeName: message`` on one line (the form every ``reason`` uses)."""
-    text = " ".join(str(exc).split())
-    return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
 
 
 def death_reason(exitcode: int | None) -> str:
