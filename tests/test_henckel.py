@@ -14,7 +14,6 @@ from __future__ import annotations
 import itertools
 import time
 from collections import Counter
-from fractions import Fraction
 
 import numpy as np
 import pytest
@@ -26,9 +25,10 @@ from hullstress import _registry
 from hullstress.algorithms import henckel
 from hullstress.algorithms.henckel import _find_face, _henckel_trace, _initial_edge, _ToDoList, henckel_hull
 from hullstress.errors import AlgorithmStepLimit
-from hullstress.tolerance import MACHINE_EPSILON, tolerance
+from hullstress.tolerance import tolerance
 
-_ORIENT_ERRBOUND = (7.0 + 56.0 * MACHINE_EPSILON) * MACHINE_EPSILON  # Shewchuk's orient3d errboundA
+from _hull_oracle import orient_sign, random_cloud
+
 TET = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]])
 CUBE = np.array(list(itertools.product((0.0, 1.0), repeat=3)))
 GRID3 = np.array(list(itertools.product((0.0, 1.0, 2.0), repeat=3)))
@@ -48,50 +48,6 @@ class ScriptedRng:
     def standard_normal(self, size):
         assert size == 3
         return self._vectors.pop(0)
-
-
-def random_cloud(seed: int, n: int, kind: str) -> np.ndarray:
-    """n points in the unit ball, the cube [-1, 1]^3 or a standard Gaussian."""
-    rng = np.random.default_rng(seed)
-    if kind == "ball":
-        x = rng.standard_normal((n, 3))
-        x /= np.linalg.norm(x, axis=1)[:, None]
-        return x * rng.random(n)[:, None] ** (1 / 3)
-    if kind == "cube":
-        return rng.random((n, 3)) * 2 - 1
-    return rng.standard_normal((n, 3))
-
-
-def _exact_orient(a, b, c, d) -> int:
-    rows = [[Fraction(float(x)) - Fraction(float(y)) for x, y in zip(p, d)] for p in (a, b, c)]
-    (ax, ay, az), (bx, by, bz), (cx, cy, cz) = rows
-    det = ax * (by * cz - bz * cy) + bx * (cy * az - cz * ay) + cx * (ay * bz - az * by)
-    return (det > 0) - (det < 0)
-
-
-def orient_sign(points: np.ndarray, tri: np.ndarray, queries: np.ndarray) -> np.ndarray:
-    """Exact sign of det[a-q, b-q, c-q] for every (triangle, query): shape (m, k).
-
-    Negative means the query is strictly above (outside) the counter-clockwise triangle.
-    """
-    q = queries[None, :, :]
-    a = points[tri[:, 0]][:, None, :] - q
-    b = points[tri[:, 1]][:, None, :] - q
-    c = points[tri[:, 2]][:, None, :] - q
-    ax, ay, az = a[..., 0], a[..., 1], a[..., 2]
-    bx, by, bz = b[..., 0], b[..., 1], b[..., 2]
-    cx, cy, cz = c[..., 0], c[..., 1], c[..., 2]
-    det = ax * (by * cz - bz * cy) + bx * (cy * az - cz * ay) + cx * (ay * bz - az * by)
-    perm = (
-        np.abs(ax) * (np.abs(by * cz) + np.abs(bz * cy))
-        + np.abs(bx) * (np.abs(cy * az) + np.abs(cz * ay))
-        + np.abs(cx) * (np.abs(ay * bz) + np.abs(az * by))
-    )
-    sign = np.sign(det).astype(np.int64)
-    for f, k in zip(*np.nonzero(np.abs(det) <= _ORIENT_ERRBOUND * perm)):
-        t = tri[f]
-        sign[f, k] = _exact_orient(points[t[0]], points[t[1]], points[t[2]], queries[k])
-    return sign
 
 
 def corner_triangles(faces) -> np.ndarray:

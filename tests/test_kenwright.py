@@ -13,7 +13,6 @@ mapping's culling of true hull vertices (a flaw of the sphere variant).
 from __future__ import annotations
 
 import itertools
-from fractions import Fraction
 
 import numpy as np
 import pytest
@@ -31,40 +30,7 @@ from hullstress.evaluate import call_algorithm
 from hullstress.sphere import sphere_project
 from hullstress.tolerance import tolerance
 
-_EPS = np.finfo(np.float64).eps
-_ORIENT_ERRBOUND = (7.0 + 56.0 * _EPS) * _EPS  # Shewchuk's orient3d errboundA
-
-
-def _exact_orient(a, b, c, d) -> int:
-    rows = [[Fraction(float(x)) - Fraction(float(y)) for x, y in zip(p, d)] for p in (a, b, c)]
-    (ax, ay, az), (bx, by, bz), (cx, cy, cz) = rows
-    det = ax * (by * cz - bz * cy) + bx * (cy * az - cz * ay) + cx * (ay * bz - az * by)
-    return (det > 0) - (det < 0)
-
-
-def orient_sign(points: np.ndarray, faces: np.ndarray, queries: np.ndarray) -> np.ndarray:
-    """Exact sign of det[a-q, b-q, c-q] for every (face, query): shape (m, q).
-
-    Negative means q is strictly above (outside) the counter-clockwise face.
-    """
-    a = points[faces[:, 0]][:, None, :] - queries[None, :, :]
-    b = points[faces[:, 1]][:, None, :] - queries[None, :, :]
-    c = points[faces[:, 2]][:, None, :] - queries[None, :, :]
-    ax, ay, az = a[..., 0], a[..., 1], a[..., 2]
-    bx, by, bz = b[..., 0], b[..., 1], b[..., 2]
-    cx, cy, cz = c[..., 0], c[..., 1], c[..., 2]
-    det = ax * (by * cz - bz * cy) + bx * (cy * az - cz * ay) + cx * (ay * bz - az * by)
-    perm = (
-        np.abs(ax) * (np.abs(by * cz) + np.abs(bz * cy))
-        + np.abs(bx) * (np.abs(cy * az) + np.abs(cz * ay))
-        + np.abs(cx) * (np.abs(ay * bz) + np.abs(az * by))
-    )
-    sign = np.sign(det).astype(np.int64)
-    unsure = np.abs(det) <= _ORIENT_ERRBOUND * perm
-    for f, q in zip(*np.nonzero(unsure)):
-        tri = faces[f]
-        sign[f, q] = _exact_orient(points[tri[0]], points[tri[1]], points[tri[2]], queries[q])
-    return sign
+from _hull_oracle import orient_sign
 
 
 def test_orient_sign_convention():

@@ -1,0 +1,58 @@
+"""Exact geometry oracles for the algorithm tests, independent of hullstress.checker (the checker is itself under test)."""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+import numpy as np
+
+_EPS = float(np.finfo(np.float64).eps)
+_ORIENT_ERRBOUND = (7.0 + 56.0 * _EPS) * _EPS  # Shewchuk's orient3d errboundA
+
+
+def exact_orient(a, b, c, d) -> int:
+    """Sign of det[a-d, b-d, c-d] in exact rational arithmetic."""
+    rows = [[Fraction(float(x)) - Fraction(float(y)) for x, y in zip(p, d)] for p in (a, b, c)]
+    (ax, ay, az), (bx, by, bz), (cx, cy, cz) = rows
+    det = ax * (by * cz - bz * cy) + bx * (cy * az - cz * ay) + cx * (ay * bz - az * by)
+    return (det > 0) - (det < 0)
+
+
+def orient_sign(points: np.ndarray, tri: np.ndarray, queries: np.ndarray | None = None) -> np.ndarray:
+    """Exact sign of det[a-q, b-q, c-q] for every (triangle, query): shape (m, k).
+
+    ``queries`` defaults to ``points``.  Negative means the query is strictly
+    above (outside) the counter-clockwise triangle.  A float filter with
+    Shewchuk's bound decides most entries; the rest are computed exactly.
+    """
+    queries = points if queries is None else queries
+    q = queries[None, :, :]
+    a = points[tri[:, 0]][:, None, :] - q
+    b = points[tri[:, 1]][:, None, :] - q
+    c = points[tri[:, 2]][:, None, :] - q
+    ax, ay, az = a[..., 0], a[..., 1], a[..., 2]
+    bx, by, bz = b[..., 0], b[..., 1], b[..., 2]
+    cx, cy, cz = c[..., 0], c[..., 1], c[..., 2]
+    det = ax * (by * cz - bz * cy) + bx * (cy * az - cz * ay) + cx * (ay * bz - az * by)
+    perm = (
+        np.abs(ax) * (np.abs(by * cz) + np.abs(bz * cy))
+        + np.abs(bx) * (np.abs(cy * az) + np.abs(cz * ay))
+        + np.abs(cx) * (np.abs(ay * bz) + np.abs(az * by))
+    )
+    sign = np.sign(det).astype(np.int64)
+    for f, k in zip(*np.nonzero(np.abs(det) <= _ORIENT_ERRBOUND * perm)):
+        t = tri[f]
+        sign[f, k] = exact_orient(points[t[0]], points[t[1]], points[t[2]], queries[k])
+    return sign
+
+
+def random_cloud(seed: int, n: int, kind: str) -> np.ndarray:
+    """n points in the unit ball, the cube [-1, 1]^3 or a standard Gaussian."""
+    rng = np.random.default_rng(seed)
+    if kind == "ball":
+        x = rng.standard_normal((n, 3))
+        x /= np.linalg.norm(x, axis=1)[:, None]
+        return x * rng.random(n)[:, None] ** (1 / 3)
+    if kind == "cube":
+        return rng.random((n, 3)) * 2 - 1
+    return rng.standard_normal((n, 3))
