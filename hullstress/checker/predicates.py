@@ -307,6 +307,26 @@ def _int_det2(ax, ay, bx, by, cx, cy):
     return (ax - cx) * (by - cy) - (ay - cy) * (bx - cx)
 
 
+def _cascade(cols, det, decided, exact_eval, dd_eval, int_det) -> np.ndarray:
+    """Signs of ``det`` where the filter ``decided``; the later stages settle the rest.
+
+    Undecided entries go through the exactness test (``exact_eval``), then
+    double-double arithmetic (``dd_eval``), then integer arithmetic on the
+    mantissas (``int_det``); each stage returns which entries it settled.
+    """
+    sign = np.sign(det).astype(np.int8)
+    rest = np.flatnonzero(~decided)
+    for stage in (exact_eval, dd_eval):
+        if not rest.size:
+            return sign
+        value, ok = stage(*[col[rest] for col in cols])
+        sign[rest[ok]] = np.sign(value[ok]).astype(np.int8)
+        rest = rest[~ok]
+    if rest.size:
+        sign[rest] = _signs_of_objects(int_det(*_to_ints([col[rest] for col in cols])))
+    return sign
+
+
 def orient2d(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
     """Exact sign of the 2D orientation of (a, b, c).
 
@@ -331,21 +351,7 @@ def orient2d(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
     cols = _columns(pa, 2) + _columns(pb, 2) + _columns(pc, 2)
     with np.errstate(all="ignore"):
         det, errbound = _filter2(*cols)
-        sign = np.sign(det).astype(np.int8)
-        todo = np.flatnonzero(~_decided(det, errbound, _TINY))
-        if todo.size:
-            sub = [col[todo] for col in cols]
-            det2, ok = _exact_eval2(*sub)
-            sign[todo[ok]] = np.sign(det2[ok]).astype(np.int8)
-            rest = todo[~ok]
-            if rest.size:
-                det3, ok = _dd_eval2(*[col[rest] for col in cols])
-                sign[rest[ok]] = np.sign(det3[ok]).astype(np.int8)
-                rest = rest[~ok]
-            if rest.size:
-                ints = _to_ints([col[rest] for col in cols])
-                sign[rest] = _signs_of_objects(_int_det2(*ints))
-    return sign
+        return _cascade(cols, det, _decided(det, errbound, _TINY), _exact_eval2, _dd_eval2, _int_det2)
 
 
 def orient2d_mean(a: np.ndarray, b: np.ndarray, cs: Sequence[np.ndarray]) -> np.ndarray:
@@ -464,21 +470,7 @@ def orient3d(a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray) -> np.n
     cols = _columns(pa, 3) + _columns(pb, 3) + _columns(pc, 3) + _columns(pd, 3)
     with np.errstate(all="ignore"):
         det, errbound, noise = _filter3(*cols)
-        sign = np.sign(det).astype(np.int8)
-        todo = np.flatnonzero(~_decided(det, errbound, noise))
-        if todo.size:
-            sub = [col[todo] for col in cols]
-            det2, ok = _exact_eval3(*sub)
-            sign[todo[ok]] = np.sign(det2[ok]).astype(np.int8)
-            rest = todo[~ok]
-            if rest.size:
-                det3, ok = _dd_eval3(*[col[rest] for col in cols])
-                sign[rest[ok]] = np.sign(det3[ok]).astype(np.int8)
-                rest = rest[~ok]
-            if rest.size:
-                ints = _to_ints([col[rest] for col in cols])
-                sign[rest] = _signs_of_objects(_int_det3(*ints))
-    return sign
+        return _cascade(cols, det, _decided(det, errbound, noise), _exact_eval3, _dd_eval3, _int_det3)
 
 
 def orient3d_mean(a: np.ndarray, b: np.ndarray, c: np.ndarray, ds: Sequence[np.ndarray]) -> np.ndarray:
