@@ -12,7 +12,6 @@ import hashlib
 import os
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -20,7 +19,6 @@ import pandas as pd
 from ._registry import GeneratorSpec, algorithms, get_algorithm, get_generator, generators
 from .case import Case, canonical_params
 from .config import AlgorithmConfig, expand_configs
-from .errors import UsageError
 from .profiles import Profile, get_profile
 from .results import ResultRow, to_frame
 from .runner import DEFAULT_MEMORY_LIMIT_MB, ExecutionStats, RunnerOptions, Task, execute

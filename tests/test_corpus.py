@@ -1,9 +1,7 @@
 """Regression corpus format, de-duplication, atomic writes, corrupt files, classification, baseline."""
 
-import json
 import math
 import multiprocessing as mp
-from pathlib import Path
 
 import numpy as np
 import pandas as pd

@@ -7,13 +7,6 @@ import numpy as np
 import pytest
 from scipy.spatial import ConvexHull
 
-try:
-    from hullstress.checker import check  # noqa: F401  (the helpers call it)
-except ImportError as exc:  # the checker or its check() not there yet; a bug inside it must show
-    if exc.name != "hullstress.checker":
-        raise
-    pytest.skip("hullstress.checker not available yet", allow_module_level=True)
-
 from hullstress.errors import UsageError
 from hullstress.testing import assert_same_hull, assert_valid_hull
 

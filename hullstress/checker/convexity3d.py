@@ -229,7 +229,6 @@ def check_convexity3d(
     Convexity3D
     """
     n = len(points)
-    m = faces.n_faces
     reasons: list[str] = []
     mags: dict[str, float] = {}
     plane = face_planes(points, faces)

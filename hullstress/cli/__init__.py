@@ -11,6 +11,7 @@ import argparse
 import importlib
 import sys
 from collections.abc import Sequence
+from typing import NoReturn
 
 from ..errors import UsageError
 
@@ -30,7 +31,7 @@ SUBCOMMANDS = ("run", "replay", "list", "check", "shrink", "fuzz", "export")
 class _Parser(argparse.ArgumentParser):
     """argparse with a one-line error and exit status 2 (its default prints usage too)."""
 
-    def error(self, message: str) -> "NoReturn":  # type: ignore[name-defined]  # noqa: F821
+    def error(self, message: str) -> NoReturn:
         self.exit(EXIT_USAGE, f"{self.prog}: error: {message}\n")
 
 

@@ -35,7 +35,6 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
 def replay_command(args: argparse.Namespace) -> int:
     import os
 
-    from ..corpus import iter_corpus  # noqa: F401  (import errors surface as usage errors below)
     from ..plugins import load_plugin
     from ..replay import REGRESSIONS, replay_corpus
 
