@@ -40,7 +40,7 @@ def corpus_files(directory: str | os.PathLike[str]) -> list[Path]:
 
 
 def _replayed(directory: Path, workers: int) -> Any:
-    from .replay import replay_corpus
+    from .corpus.replay import replay_corpus
 
     key = (str(directory.resolve()), workers)
     if key not in _CACHE:
@@ -57,7 +57,7 @@ class CorpusCase:
 
     def outcomes(self) -> Any:
         """This entry's rows of the session's replay table (raises the corpus error if unreadable)."""
-        from .corpus import load_entry
+        from .corpus.store import load_entry
 
         entry = load_entry(self.path)  # raises CorpusError naming the file
         result = _replayed(self.path.parent, self.workers)
@@ -65,7 +65,7 @@ class CorpusCase:
 
     def assert_no_regression(self) -> None:
         """Fail with the expected and actual signature of every regressed config."""
-        from .replay import REGRESSIONS
+        from .corpus.replay import REGRESSIONS
 
         table = self.outcomes()
         bad = table[table["outcome"].isin(REGRESSIONS)]

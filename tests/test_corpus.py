@@ -7,9 +7,9 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from hullstress.baseline import compare_with_baseline, failure_groups, load_baseline
+from hullstress.corpus.baseline import compare_with_baseline, failure_groups, load_baseline
 from hullstress.case import Case
-from hullstress.corpus import (
+from hullstress.corpus.store import (
     CorpusEntry,
     iter_corpus,
     load_entry,
@@ -17,7 +17,7 @@ from hullstress.corpus import (
     save_entry,
 )
 from hullstress.errors import CorpusError, UsageError
-from hullstress.replay import classify
+from hullstress.corpus.replay import classify
 
 SPECIALS = [
     [0.1, -0.0],

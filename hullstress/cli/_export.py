@@ -32,7 +32,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
 
 def load_case_points(spec: str, corpus_dir: str):
     """Points of CASE: a corpus file, an entry id in ``corpus_dir``, or a points file."""
-    from ..corpus import FORMAT, load_entry
+    from ..corpus.store import FORMAT, load_entry
     from ..io import read_points
 
     path = Path(spec)

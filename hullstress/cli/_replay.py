@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..corpus import DEFAULT_CORPUS
+from ..corpus.store import DEFAULT_CORPUS
 from ..errors import UsageError
 
 __all__ = ["add_parser", "replay_command"]
@@ -36,7 +36,7 @@ def replay_command(args: argparse.Namespace) -> int:
     import os
 
     from ..plugins import load_plugin
-    from ..replay import REGRESSIONS, replay_corpus
+    from ..corpus.replay import REGRESSIONS, replay_corpus
 
     for spec in args.plugin:
         load_plugin(spec)

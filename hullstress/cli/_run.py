@@ -112,7 +112,7 @@ def run_command(args: argparse.Namespace) -> int:
     from ..progress import ProgressBar, progress_enabled
     from ..report.writer import RowStream, new_run_dir, run_metadata, write_report
     from ..report.tables import failure_counts
-    from ..baseline import compare_with_baseline, load_baseline
+    from ..corpus.baseline import compare_with_baseline, load_baseline
     from ..report.finalize import finalize_run
     from ..sweep import SweepOptions, build_tasks, run_sweep, sort_table
 
@@ -196,7 +196,7 @@ def run_command(args: argparse.Namespace) -> int:
         timeout=options.runner_options().timeout, junit_path=args.junit, plugins=tuple(args.plugin),
     )
     if args.save_corpus and not interrupted:
-        from ..corpus_save import save_minimised_failures
+        from ..corpus.save import save_minimised_failures
 
         new_groups = None
         if comparison is not None:
@@ -236,7 +236,8 @@ def run_command(args: argparse.Namespace) -> int:
 
 def _write_baseline_section(run_dir: Any, comparison: Any, baseline: str) -> None:
     """``baseline.csv`` and a section of ``summary.md``: new, still-failing and fixed groups."""
-    from ..report.writer import _markdown, atomic_write_text
+    from ..files import atomic_write_text
+    from ..report.writer import _markdown
 
     comparison.to_csv(run_dir / "baseline.csv", index=False)
     summary = run_dir / "summary.md"

@@ -29,7 +29,7 @@ from .failures import FailureRecord, draw_picture, write_failure_folder
 from .findings import findings_markdown, findings_reading, findings_table
 from .html import render_html
 from .junit import write_junit
-from .writer import atomic_write_text
+from ..files import atomic_write_text
 
 __all__ = ["finalize_run", "TriageBudget", "triage_budget", "shrink_budgets", "MAX_FOLDERS"]
 

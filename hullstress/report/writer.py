@@ -22,10 +22,11 @@ from typing import Any
 import pandas as pd
 
 from ..errors import UsageError
+from ..files import atomic_write_text, atomic_write_with
 from ..results import ROW_COLUMNS, ResultRow
 from .tables import failure_counts, status_counts
 
-__all__ = ["new_run_dir", "RowStream", "write_report", "package_versions", "atomic_write_text"]
+__all__ = ["new_run_dir", "RowStream", "write_report", "package_versions"]
 
 
 def new_run_dir(out: str | os.PathLike[str], run_name: str) -> Path:
@@ -54,13 +55,6 @@ def new_run_dir(out: str | os.PathLike[str], run_name: str) -> Path:
     except OSError as exc:
         raise UsageError(f"--out {str(out)!r}: cannot create a run folder there: {exc.strerror or exc}") from None
     return run_dir
-
-
-def atomic_write_text(path: Path, text: str) -> None:
-    """Write ``text`` to ``path`` via a temporary file and rename (readers never see half a file)."""
-    tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
-    tmp.write_text(text, encoding="utf-8")
-    os.replace(tmp, path)
 
 
 class RowStream:
@@ -142,9 +136,7 @@ def write_report(run_dir: Path, df: pd.DataFrame, meta: Mapping[str, Any]) -> di
     """
     written: dict[str, Path] = {}
     csv_path = run_dir / "results.csv"
-    tmp = run_dir / ".results.csv.tmp"
-    df.to_csv(tmp, index=False)
-    os.replace(tmp, csv_path)
+    atomic_write_with(csv_path, lambda fh: df.to_csv(fh, index=False))
     written["csv"] = csv_path
     try:
         import pyarrow  # noqa: F401

@@ -31,7 +31,6 @@ from __future__ import annotations
 
 import json
 import os
-import tempfile
 import time
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
@@ -40,10 +39,11 @@ from typing import Any
 
 import numpy as np
 
-from .case import Case
-from .errors import CorpusError
-from .results import ResultRow
-from .triage.signature import failed_check
+from ..case import Case
+from ..errors import CorpusError
+from ..files import atomic_write_text
+from ..results import ResultRow
+from ..triage.signature import failed_check
 
 __all__ = [
     "FORMAT",
@@ -175,17 +175,7 @@ def save_entry(directory: str | os.PathLike[str], entry: CorpusEntry, *, overwri
     path = directory / f"{entry.entry_id}.json"
     if path.exists() and not overwrite:
         return path, False
-    text = json.dumps(entry.to_json(), indent=1, sort_keys=False) + "\n"
-    fd, tmp = tempfile.mkstemp(prefix=f".{entry.entry_id}.", suffix=".tmp", dir=directory)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(text)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    atomic_write_text(path, json.dumps(entry.to_json(), indent=1, sort_keys=False) + "\n", durable=True)
     return path, True
 
 

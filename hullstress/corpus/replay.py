@@ -18,13 +18,13 @@ from pathlib import Path
 
 import pandas as pd
 
-from ._registry import algorithms, get_algorithm
-from .case import Case
-from .config import AlgorithmConfig, expand_configs
-from .corpus import CorpusEntry, is_failure_signature, iter_corpus, row_signature, save_entry
-from .errors import CorpusError
-from .results import ResultRow
-from .runner import RunnerOptions, Task, execute
+from .._registry import algorithms, get_algorithm
+from ..case import Case
+from ..config import AlgorithmConfig, expand_configs
+from ..errors import CorpusError
+from ..results import ResultRow
+from ..runner import RunnerOptions, Task, execute
+from .store import CorpusEntry, is_failure_signature, iter_corpus, row_signature, save_entry
 
 __all__ = ["classify", "ReplayResult", "replay_entries", "replay_corpus", "record_expectations", "add_to_corpus", "REGRESSIONS"]
 

@@ -1,7 +1,7 @@
 """Comparing a run with a baseline: which failure groups are new, still failing, or fixed.
 
 A failure group is (algorithm, sphere, eps, family, signature), the signature
-being :func:`hullstress.corpus.row_signature` (``fail:containment``,
+being :func:`hullstress.corpus.store.row_signature` (``fail:containment``,
 ``error``, ``crash`` ...).  A baseline is an earlier run (its folder or its
 ``results.csv`` / ``results.parquet``) or a regression corpus (its recorded
 expectations).
@@ -15,8 +15,8 @@ from pathlib import Path
 
 import pandas as pd
 
-from .corpus import CorpusError, is_failure_signature, iter_corpus, row_signature
-from .errors import UsageError
+from ..errors import CorpusError, UsageError
+from .store import is_failure_signature, iter_corpus, row_signature
 
 __all__ = ["GROUP_KEYS", "failure_groups", "load_baseline", "compare_with_baseline"]
 

@@ -3,7 +3,7 @@
 One entry per failing (algorithm, family) pair, the smallest minimised case
 among that pair's failure groups; with ``--baseline`` only pairs with a group
 new against the baseline.  Each entry records the verdict signature of every
-algorithm config on its points (see :func:`hullstress.replay.add_to_corpus`),
+algorithm config on its points (see :func:`hullstress.corpus.replay.add_to_corpus`),
 so replay notices when any of them changes.
 """
 
@@ -16,9 +16,9 @@ from typing import Any
 
 import numpy as np
 
-from .case import Case
-from .corpus import provenance_for
+from ..case import Case
 from .replay import add_to_corpus
+from .store import provenance_for
 
 __all__ = ["corpus_signature", "select_for_corpus", "save_minimised_failures"]
 

@@ -1,0 +1,42 @@
+"""The regression corpus: one JSON file per minimised case, replayed against every config.
+
+* :mod:`.store` -- the file format, loading, de-duplicated atomic saving.
+* :mod:`.save` -- ``run --save-corpus``: a run's minimised failures become entries.
+* :mod:`.replay` -- ``replay``: every entry against every config, classified
+  against the recorded expectations.
+* :mod:`.baseline` -- ``run --baseline``: which failure groups are new
+  against an earlier run or a corpus.
+
+The submodules are imported on first use: ``store`` needs NumPy only, the
+others pandas and the runner.
+"""
+
+from __future__ import annotations
+
+from importlib import import_module
+from typing import Any
+
+__all__ = [
+    "DEFAULT_CORPUS",
+    "CorpusEntry",
+    "iter_corpus",
+    "load_entry",
+    "save_entry",
+    "replay_corpus",
+    "add_to_corpus",
+    "save_minimised_failures",
+    "load_baseline",
+    "compare_with_baseline",
+]
+
+_HOMES = {
+    "DEFAULT_CORPUS": "store", "CorpusEntry": "store", "iter_corpus": "store", "load_entry": "store",
+    "save_entry": "store", "replay_corpus": "replay", "add_to_corpus": "replay",
+    "save_minimised_failures": "save", "load_baseline": "baseline", "compare_with_baseline": "baseline",
+}
+
+
+def __getattr__(name: str) -> Any:
+    if name in _HOMES:
+        return getattr(import_module(f"{__name__}.{_HOMES[name]}"), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
