@@ -40,7 +40,7 @@ from typing import Any
 
 import numpy as np
 
-from hullstress._registry import GeneratorSpec, get_generator, generators as _registered
+from hullstress.registry import GeneratorSpec, get_generator, generators as _registered
 
 from . import bad_input, classics, collinear, coplanar, duplicates, jitter, kettner, minkowski, regular, scale, slivers
 from ._common import MIN_SIZE_RULES, GeneratorValueError

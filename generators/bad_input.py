@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from hullstress import register_generator
+from hullstress.registry import register_generator
 
 from ._common import check_choice, check_dim, check_n, declare_min_size, uniform_ball
 

@@ -20,7 +20,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from hullstress import register_generator
+from hullstress.registry import register_generator
 
 from ._common import (
     GeneratorValueError,

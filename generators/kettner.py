@@ -25,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from hullstress import register_generator
+from hullstress.registry import register_generator
 
 from ._common import (
     GeneratorValueError,
