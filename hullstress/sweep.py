@@ -19,9 +19,9 @@ import pandas as pd
 from ._registry import GeneratorSpec, algorithms, get_algorithm, get_generator, generators
 from .case import Case, canonical_params
 from .config import AlgorithmConfig, expand_configs
-from .profiles import Profile, get_profile
+from .options import DEFAULTS, Profile, get_profile
 from .results import ResultRow, to_frame
-from .runner import DEFAULT_MEMORY_LIMIT_MB, ExecutionStats, RunnerOptions, Task, execute
+from .runner import ExecutionStats, RunnerOptions, Task, execute
 
 __all__ = ["SweepOptions", "SweepResult", "build_cases", "build_tasks", "case_seed", "run_sweep", "sort_table"]
 
@@ -45,7 +45,7 @@ class SweepOptions:
     #: Dask scheduler address; None runs on this machine.
     scheduler: str | None = None
     #: Address-space limit per isolated worker in MiB (0 or None: none).
-    memory_limit_mb: float | None = DEFAULT_MEMORY_LIMIT_MB
+    memory_limit_mb: float | None = DEFAULTS.memory_limit_mb
 
     @property
     def profile_spec(self) -> Profile:

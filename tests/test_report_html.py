@@ -1,7 +1,7 @@
 """Tests for the run's report: report.html, failure folders, reproduce commands, findings, summary.
 
 A small sweep of throw-away plug-in algorithms (correct hulls from Qhull with
-bugs planted) over a plug-in generator, then :func:`finalize_run`.
+bugs planted) over a plug-in generator, then the triage and report stages (:func:`_finalize`).
 """
 
 from __future__ import annotations
@@ -23,9 +23,11 @@ import pytest
 
 from hullstress.io import read_points
 from hullstress.plugins import load_plugin
-from hullstress.report.finalize import finalize_run
+from hullstress.options import PROFILES, TriageBudget
 from hullstress.report.pictures import PNG_SIGNATURE
+from hullstress.report.stage import write_run_report
 from hullstress.report.writer import run_metadata, write_report
+from hullstress.triage.stage import triage_failures
 
 PLUGIN = textwrap.dedent(
     '''
@@ -101,6 +103,17 @@ def _sweep(tmp_path: Path, plugin: Path, algorithms: tuple[str, ...], *, sphere:
                         df=result.table, wall_seconds=1.0, complete=True, skipped=[])
     write_report(run_dir, result.table, meta)
     return run_dir, result, meta
+
+
+def _finalize(run_dir, table, cases, meta, *, budget: TriageBudget | None = None, shrink: bool = True,
+              junit_path=None, plugins=(), pictures: bool = True) -> dict:
+    """The triage stage, then the report stage, as the pipeline runs them."""
+    budget = budget or PROFILES["quick"].triage
+    triage = triage_failures(table, cases, budget=budget, shrink=shrink)
+    files = write_run_report(run_dir, table, meta, triage, picture_budget=budget.pictures, plugins=plugins,
+                             junit_path=junit_path, pictures=pictures)
+    return {"groups": triage.groups, "records": files.records, "notes": files.notes, "html": files.html,
+            "findings_csv": files.findings_csv, "junit": files.junit}
 
 
 class _Structure(HTMLParser):
@@ -181,8 +194,10 @@ def failing_run(tmp_path_factory, plugin):
     tmp = tmp_path_factory.mktemp("report-run")
     run_dir, result, meta = _sweep(tmp, plugin, ("test-report-dropper", "test-report-raiser",
                                                  "test-report-holey", "test-report-good"))
-    out = finalize_run(run_dir, result.table, result.cases, meta, shrink_budget_seconds=40,
-                       group_budget_seconds=15, junit_path=tmp / "ci" / "junit.xml", plugins=[str(plugin)])
+    budget = TriageBudget(shrink_total=40.0, shrink_per_group=15.0, total=120.0, pictures=60.0)
+    (tmp / "ci").mkdir()
+    out = _finalize(run_dir, result.table, result.cases, meta, budget=budget, junit_path=tmp / "ci" / "junit.xml",
+                    plugins=[str(plugin)])
     return run_dir, result, out
 
 
@@ -279,7 +294,7 @@ def test_summary_findings_and_junit(failing_run):
 
 def test_a_clean_run_reports_no_failures(tmp_path, plugin):
     run_dir, result, meta = _sweep(tmp_path, plugin, ("test-report-good",))
-    out = finalize_run(run_dir, result.table, result.cases, meta, junit_path=tmp_path / "junit.xml")
+    out = _finalize(run_dir, result.table, result.cases, meta, junit_path=tmp_path / "junit.xml")
     parser = _check_html(out["html"])
     assert out["records"] == [] and parser.images == []
     assert "No failures." in " ".join(parser.text)
@@ -288,7 +303,7 @@ def test_a_clean_run_reports_no_failures(tmp_path, plugin):
 
 def test_no_shrink_keeps_the_smallest_case(tmp_path, plugin):
     run_dir, result, meta = _sweep(tmp_path, plugin, ("test-report-raiser",))
-    out = finalize_run(run_dir, result.table, result.cases, meta, shrink=False, pictures=False)
+    out = _finalize(run_dir, result.table, result.cases, meta, shrink=False, pictures=False)
     assert out["records"] and all(r.minimal_size == r.original_size == 12 for r in out["records"])
     assert all(not r.shrunk and "--no-shrink" in r.note for r in out["records"])
     assert "Shrinking was turned off" in out["html"].read_text()
@@ -309,11 +324,9 @@ def test_report_renders_in_headless_chromium(failing_run, tmp_path):
 
 
 def test_time_budgets_drop_pictures_then_folders_and_say_so(tmp_path, plugin):
-    from hullstress.report.finalize import TriageBudget
-
     run_dir, result, meta = _sweep(tmp_path, plugin, ("test-report-raiser", "test-report-dropper"))
-    no_pictures = TriageBudget(shrink_total=0.0, shrink_per_group=0.0, pictures=0.0, total=60.0)
-    out = finalize_run(run_dir, result.table, result.cases, meta, budget=no_pictures)
+    no_pictures = TriageBudget(shrink_total=0.0, shrink_per_group=0.0, total=60.0, pictures=0.0)
+    out = _finalize(run_dir, result.table, result.cases, meta, budget=no_pictures)
     assert len(out["records"]) == len(out["groups"]) == 3
     assert all(r.picture is None and not (r.folder / "picture.png").exists() for r in out["records"])
     assert all("shrink budget was spent" in r.note for r in out["records"])
@@ -321,10 +334,10 @@ def test_time_budgets_drop_pictures_then_folders_and_say_so(tmp_path, plugin):
     assert parser.images == []
     assert any("3 groups have no picture" in n for n in out["notes"])
 
-    nothing = TriageBudget(shrink_total=0.0, shrink_per_group=0.0, pictures=0.0, total=0.0)
+    nothing = TriageBudget(shrink_total=0.0, shrink_per_group=0.0, total=0.0, pictures=0.0)
     run2 = tmp_path / "run2"
     run2.mkdir()
-    out = finalize_run(run2, result.table, result.cases, meta, budget=nothing)
+    out = _finalize(run2, result.table, result.cases, meta, budget=nothing)
     assert out["records"] == []
     assert any("3 more failure groups have no folder because the triage time budget" in n for n in out["notes"])
     parser = _check_html(out["html"])

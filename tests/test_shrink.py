@@ -198,6 +198,7 @@ def test_shrink_command_exits_0_when_the_case_does_not_fail(plugin, tmp_path, ca
 
 def test_invalid_input_failures_reproduce_through_the_raw_npy_command(plugin, tmp_path):
     from hullstress.report.failures import write_failure_folder
+    from hullstress.triage.stage import triage_one
 
     pts = np.vstack([_hidden_case(n=30).points, [[np.nan, 1.0]]])
     case = Case(points=pts, dim=2, family="test-nan", seed=0)
@@ -205,7 +206,7 @@ def test_invalid_input_failures_reproduce_through_the_raw_npy_command(plugin, tm
     result = shrink(case, config, budget_seconds=20, timeout=30)
     assert result.signature.check == "invalid-input"
     assert result.minimal_size == 4 and np.isnan(result.case.points).any()  # 3 finite points make a hull
-    rec = write_failure_folder(tmp_path / "failures", result, config, plugins=[str(plugin)], picture=True)
+    rec = write_failure_folder(tmp_path / "failures", triage_one(result, config), plugins=[str(plugin)], picture=True)
     assert not (rec.folder / "points.csv").exists()  # the reader refuses NaN: only the .npy is exact
     assert rec.verified is True
     argv = shlex.split(rec.command)

@@ -53,11 +53,13 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
 
 def fuzz_command(args: argparse.Namespace) -> int:
     from ..errors import UsageError
+    from ..files import atomic_write_text
     from ..plugins import load_plugin
     from ..report.failures import write_failure_folder
     from ..report.writer import new_run_dir
     from ..triage.fuzzing import fuzz
-    from ..triage.shrink import ShrinkResult
+    from ..triage.records import ShrinkResult
+    from ..triage.stage import triage_one
 
     for spec in args.plugin:
         load_plugin(spec)
@@ -90,14 +92,14 @@ def fuzz_command(args: argparse.Namespace) -> int:
                                   original_size=finding.case.n_points, minimal_size=finding.case.n_points,
                                   calls=0, seconds=0.0, reproduced=True, row=finding.row,
                                   note="Hypothesis's minimal example (no point-level shrink)")
-        rec = write_failure_folder(run_dir / "failures", shrunk, result.config, plugins=args.plugin,
-                                   timeout=args.timeout)
+        rec = write_failure_folder(run_dir / "failures", triage_one(shrunk, result.config, timeout=args.timeout),
+                                   plugins=args.plugin, timeout=args.timeout)
         print(f"  {finding.signature.label}: {finding.case.n_points} -> {rec.minimal_size} points; "
               f"{finding.row.get('reason')}")
         print(f"    reproduce: {rec.command}")
         summary.append({"signature": finding.signature.as_dict(), "hypothesis_case": repr(finding.case),
                         "minimal_size": rec.minimal_size, "folder": str(rec.folder), "reproduce": rec.command})
-    (run_dir / "fuzz.json").write_text(json.dumps(
+    atomic_write_text(run_dir / "fuzz.json", json.dumps(
         {"config": result.config.label, "seed": result.seed, "examples": result.examples,
          "families": list(result.families), "database": None if database is None else str(database),
          "findings": summary}, indent=2) + "\n")

@@ -3,17 +3,12 @@
 from __future__ import annotations
 
 import argparse
-import shutil
-import signal
 import sys
-import time
 from typing import Any
 
 from ..config import EPS_CHOICES, SPHERE_CHOICES
 from ..errors import UsageError
-from ..profiles import PROFILES
-from ..results import ResultRow, to_frame
-from ..runner import DEFAULT_MEMORY_LIMIT_MB
+from ..options import DEFAULTS, PROFILES
 
 __all__ = ["add_parser", "run_command", "parse_sizes"]
 
@@ -73,9 +68,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
                    help="per-call timeout (default: the profile's)")
     p.add_argument("--time-budget", type=float, default=None, metavar="SECONDS",
                    help="stop starting new calls after this long; the report covers what ran")
-    p.add_argument("--memory-limit", type=float, default=DEFAULT_MEMORY_LIMIT_MB, metavar="MB",
+    p.add_argument("--memory-limit", type=float, default=DEFAULTS.memory_limit_mb, metavar="MB",
                    help="address-space limit per worker process in MiB; a runaway allocation becomes an "
-                   f"error or crash row (default {DEFAULT_MEMORY_LIMIT_MB:g}; 0 for none)")
+                   f"error or crash row (default {DEFAULTS.memory_limit_mb:g}; 0 for none)")
     p.add_argument("--scheduler", default=None, metavar="ADDRESS",
                    help="run on the Dask cluster at this scheduler address (e.g. tcp://host:8786) "
                    "instead of local worker processes; the table is the same as a local run's")
@@ -99,28 +94,18 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
     p.set_defaults(handler=run_command)
 
 
-class _Terminated(Exception):
-    """SIGTERM arrived: finish like Ctrl-C."""
-
-
-def _raise_terminated(signum: int, frame: Any) -> None:
-    raise _Terminated()
-
-
 def run_command(args: argparse.Namespace) -> int:
+    """Parse the options into :class:`~hullstress.pipeline.RunOptions`, run the pipeline, print its summary."""
+    from ..pipeline import RunOptions, run
     from ..plugins import load_plugin
-    from ..progress import ProgressBar, progress_enabled
-    from ..report.writer import RowStream, new_run_dir, run_metadata, write_report
-    from ..report.tables import failure_counts
-    from ..corpus.baseline import compare_with_baseline, load_baseline
-    from ..report.finalize import finalize_run
-    from ..sweep import SweepOptions, build_tasks, run_sweep, sort_table
+    from ..progress import progress_enabled
+    from ..sweep import SweepOptions
 
     for spec in args.plugin:
         load_plugin(spec)
     if args.workers is not None and args.workers < 0:
         raise UsageError(f"--workers must be 0 or more, got {args.workers}")
-    options = SweepOptions(
+    sweep = SweepOptions(
         profile=args.profile,
         algorithms=tuple(args.algorithm),
         generators=tuple(args.generator),
@@ -136,113 +121,42 @@ def run_command(args: argparse.Namespace) -> int:
         scheduler=args.scheduler,
         memory_limit_mb=_memory_limit(args.memory_limit),
     )
-    baseline = load_baseline(args.baseline) if args.baseline else None  # a bad path fails before the sweep
-    tasks, cases, _, skipped = build_tasks(options)
-    if not tasks:
-        raise UsageError("nothing to run: no case matches the selected algorithms' dimensions")
-    run_id = f"{time.strftime('%Y%m%d-%H%M%S')}-{args.profile}-seed{args.seed}"
-    run_dir = new_run_dir(args.out, run_id)
-    n_calls = sum(len(t.configs) for t in tasks)
-    if not args.quiet:
-        print(f"hullstress: {len(tasks)} cases x configs = {n_calls} calls -> {run_dir}", file=sys.stderr)
-
-    stream = RowStream(run_dir)
-    rows: list[ResultRow] = []
-
-    progress = ProgressBar(n_calls, enabled=progress_enabled(sys.stderr, quiet=args.quiet))
-
-    def on_row(row: ResultRow) -> None:
-        rows.append(row)
-        stream(row)
-        progress.update(row)
-
-    previous = signal.signal(signal.SIGTERM, _raise_terminated)
-    start = time.perf_counter()
-    complete = True
-    interrupted = False
-    stats = None
-    try:
-        result = run_sweep(options, on_row=on_row, tasks=tasks)
-        table, stats = result.table, result.stats
-        complete = not stats.budget_exhausted
-    except (KeyboardInterrupt, _Terminated):
-        interrupted, complete = True, False
-        table = sort_table(to_frame(rows), [c.case_id for c in cases])
-    except UsageError:
-        # e.g. an unreachable --scheduler: nothing ran, so leave no empty run folder behind.
-        stream.close(remove=True)
-        if not rows:
-            shutil.rmtree(run_dir, ignore_errors=True)
-        raise
-    finally:
-        signal.signal(signal.SIGTERM, previous)
-        progress.close()
-    wall = time.perf_counter() - start
-    arguments = {k: v for k, v in vars(args).items() if k not in ("handler",)}
-    meta = run_metadata(
-        run_id=run_dir.name, arguments=arguments, df=table, wall_seconds=wall,
-        complete=complete, skipped=skipped,
-        extra={"interrupted": interrupted, "calls_planned": n_calls,
-               "budget_exhausted": bool(stats.budget_exhausted) if stats else False,
-               "runner": stats.as_dict() if stats else None},
+    options = RunOptions(
+        sweep=sweep, out=args.out, shrink=not args.no_shrink, junit=args.junit, baseline=args.baseline,
+        save_corpus=args.save_corpus, plugins=tuple(args.plugin),
+        arguments={k: v for k, v in vars(args).items() if k != "handler"},
     )
-    write_report(run_dir, table, meta)
-    stream.close(remove=True)
-    comparison = compare_with_baseline(table, baseline) if baseline is not None else None
-    if comparison is not None:
-        _write_baseline_section(run_dir, comparison, args.baseline)
-    triage = finalize_run(
-        run_dir, table, cases, meta, shrink=not (args.no_shrink or interrupted),
-        timeout=options.runner_options().timeout, junit_path=args.junit, plugins=tuple(args.plugin),
-    )
-    if args.save_corpus and not interrupted:
-        from ..corpus.save import save_minimised_failures
+    echo = None if args.quiet else (lambda line: print(line, file=sys.stderr, flush=True))
+    the_run = run(options, echo=echo, progress=progress_enabled(sys.stderr, quiet=args.quiet))
+    _print_summary(the_run, args, quiet=args.quiet)
+    return the_run.exit_status
 
-        new_groups = None
-        if comparison is not None:
-            new = comparison[comparison["state"] == "new"]
-            new_groups = set(map(tuple, new[["algorithm", "sphere", "eps", "generator", "signature"]].astype(str).values))
-        saved = save_minimised_failures(
-            args.save_corpus, triage["records"], cases, new_groups=new_groups,
-            workers=options.runner_options().workers, timeout=options.runner_options().timeout,
-            found_by=f"hullstress run {run_dir.name}",
-        )
-        written = sum(1 for _, w in saved if w)
-        print(f"corpus: {written} new entries in {args.save_corpus} ({len(saved) - written} already there)")
 
-    failed = table["status"].isin(["fail", "error", "timeout", "crash"])
+def _print_summary(the_run: Any, args: argparse.Namespace, *, quiet: bool) -> None:
+    """The terminal's last lines: failures by config, status counts, baseline, corpus, report path."""
+    from ..report.tables import failure_counts
+
+    table = the_run.table
     counts = table["status"].value_counts()
     line = ", ".join(f"{counts.get(s, 0)} {s}" for s in ("pass", "fail", "rejected", "error", "timeout", "crash"))
-    if not args.quiet:
+    if not quiet and len(table):
         worst = failure_counts(table).groupby(["algorithm", "sphere", "eps"], observed=True)["failed"].sum()
         worst = worst.sort_values(ascending=False).head(8)
         if len(worst):
             print("failures by algorithm config:")
             for (alg, sph, eps), n in worst.items():
                 print(f"  {alg}[sphere={sph},eps={eps}]: {n}")
-    state = "" if complete else " (INCOMPLETE)"
-    print(f"{len(table)}/{n_calls} calls in {wall:.1f} s: {line}{state}")
-    if comparison is not None:
-        states = comparison["state"].value_counts()
+    state = "" if the_run.complete and not the_run.interrupted else " (INCOMPLETE)"
+    wall = the_run.seconds.get("sweep", 0.0)
+    print(f"{len(table)}/{the_run.plan.n_calls} calls in {wall:.1f} s: {line}{state}")
+    if the_run.comparison is not None:
+        states = the_run.comparison["state"].value_counts()
         print(f"against baseline {args.baseline}: " + ", ".join(
             f"{states.get(k, 0)} {k} failure groups" for k in ("new", "still-failing", "fixed")))
-    print(f"report: {run_dir}")
-    if interrupted:
-        return 130
-    if comparison is not None:
-        return 1 if bool((comparison["state"] == "new").any()) else 0
-    return 1 if bool(failed.any()) else 0
-
-
-def _write_baseline_section(run_dir: Any, comparison: Any, baseline: str) -> None:
-    """``baseline.csv`` and a section of ``summary.md``: new, still-failing and fixed groups."""
-    from ..files import atomic_write_text
-    from ..report.writer import _markdown
-
-    comparison.to_csv(run_dir / "baseline.csv", index=False)
-    summary = run_dir / "summary.md"
-    parts = [summary.read_text(encoding="utf-8").rstrip("\n"), "", f"## Against the baseline `{baseline}`", ""]
-    for state in ("new", "still-failing", "fixed"):
-        part = comparison[comparison["state"] == state].drop(columns="state")
-        parts += [f"### {state} ({len(part)})", "", _markdown(part).rstrip("\n"), ""]
-    atomic_write_text(summary, "\n".join(parts))
+    if args.save_corpus and not the_run.interrupted:
+        written = sum(1 for _, w in the_run.corpus_saved if w)
+        print(f"corpus: {written} new entries in {args.save_corpus} ({len(the_run.corpus_saved) - written} already there)")
+    if the_run.interrupted:
+        print(f"hullstress: interrupted ({'SIGTERM' if the_run.exit_status == 143 else 'SIGINT'}); "
+              "the report covers what finished", file=sys.stderr)
+    print(f"report: {the_run.run_dir}")

@@ -75,6 +75,7 @@ def shrink_command(args: argparse.Namespace) -> int:
     from .._registry import get_algorithm
     from ..plugins import load_plugin
     from ..report.failures import write_failure_folder
+    from ..triage.stage import triage_one
     from ..report.writer import new_run_dir
     from ..triage import run_config, shrink, signature_of
 
@@ -102,7 +103,8 @@ def shrink_command(args: argparse.Namespace) -> int:
         return 1
     result = shrink(case, config, sig, budget_seconds=args.budget, max_calls=args.max_calls, timeout=args.timeout)
     run_dir = new_run_dir(args.out, f"shrink-{time.strftime('%Y%m%d-%H%M%S')}-{spec.name}")
-    rec = write_failure_folder(run_dir / "failures", result, config, plugins=args.plugin, timeout=args.timeout)
+    rec = write_failure_folder(run_dir / "failures", triage_one(result, config, timeout=args.timeout),
+                               plugins=args.plugin, timeout=args.timeout)
     state = "" if not result.exhausted else " (budget spent; may not be minimal)"
     print(f"shrunk {result.original_size} -> {result.minimal_size} points in {result.calls} calls, "
           f"{result.seconds:.1f} s{state}")

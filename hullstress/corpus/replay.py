@@ -20,6 +20,7 @@ import pandas as pd
 
 from .._registry import algorithms, get_algorithm
 from ..case import Case
+from ..options import DEFAULTS
 from ..config import AlgorithmConfig, expand_configs
 from ..errors import CorpusError
 from ..results import ResultRow
@@ -73,7 +74,7 @@ def replay_entries(
     *,
     algorithm_names: Sequence[str] = (),
     workers: int = 0,
-    timeout: float = 10.0,
+    timeout: float = DEFAULTS.call_timeout,
     accept: bool = False,
 ) -> ReplayResult:
     """Replay ``entries`` and classify every (entry, config) pair.
@@ -149,7 +150,7 @@ def replay_corpus(
 
 
 def record_expectations(
-    cases: Sequence[Case], *, workers: int = 0, timeout: float = 10.0, algorithm_names: Sequence[str] = ()
+    cases: Sequence[Case], *, workers: int = 0, timeout: float = DEFAULTS.call_timeout, algorithm_names: Sequence[str] = ()
 ) -> dict[str, dict[str, str]]:
     """Run every config on each case; return ``{case_id: {config label: signature}}``."""
     specs = [get_algorithm(n) for n in algorithm_names] if algorithm_names else algorithms()
@@ -168,7 +169,7 @@ def add_to_corpus(
     cases: Sequence[tuple[Case, dict]],
     *,
     workers: int = 0,
-    timeout: float = 10.0,
+    timeout: float = DEFAULTS.call_timeout,
 ) -> list[tuple[Path, bool]]:
     """Add cases (each with its provenance) to the corpus, recording every config's current verdict.
 

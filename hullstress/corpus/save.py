@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from ..case import Case
+from ..options import DEFAULTS
 from .replay import add_to_corpus
 from .store import provenance_for
 
@@ -33,20 +34,18 @@ def select_for_corpus(records: Sequence[Any], new_groups: Collection[tuple[str, 
 
     Parameters
     ----------
-    records : sequence of FailureRecord
-        From :func:`hullstress.report.finalize.finalize_run`.
+    records : sequence of TriageRecord
+        From :func:`hullstress.triage.triage_failures`.
     new_groups : collection of (algorithm, sphere, eps, family, signature), optional
         Restrict to these failure groups (the ``new`` ones against a baseline).
     """
     best: dict[tuple[str, str], Any] = {}
     for rec in records:
         sig = rec.signature
-        if rec.points is None:  # no folder was written for this group
-            continue
         if new_groups is not None and (sig.algorithm, sig.sphere, sig.eps, sig.family, corpus_signature(sig.check)) not in new_groups:
             continue
         key = (sig.algorithm, sig.family)
-        if key not in best or rec.minimal_size < best[key].minimal_size:
+        if key not in best or rec.case.n_points < best[key].case.n_points:
             best[key] = rec
     return [best[k] for k in sorted(best)]
 
@@ -58,7 +57,7 @@ def save_minimised_failures(
     *,
     new_groups: Collection[tuple[str, ...]] | None = None,
     workers: int = 0,
-    timeout: float = 10.0,
+    timeout: float = DEFAULTS.call_timeout,
     found_by: str = "hullstress run",
 ) -> list[tuple[Path, bool]]:
     """Add the selected minimised failures to the corpus in ``directory``.
@@ -74,7 +73,7 @@ def save_minimised_failures(
         sig = rec.signature
         group = getattr(rec, "group", None)
         original = by_id.get(group.smallest_case_id) if group is not None else None
-        points = np.asarray(rec.points, dtype=np.float64)
+        points = np.asarray(rec.case.points, dtype=np.float64)
         dim = original.dim if original is not None else (points.shape[1] if points.ndim == 2 else 3)
         case = Case(
             points=points, dim=dim, family=sig.family,
@@ -84,7 +83,7 @@ def save_minimised_failures(
             source=f"minimised from {original.case_id}" if original is not None else "minimised",
         )
         prov = provenance_for(
-            case, found_by=found_by, original_size=rec.original_size,
+            case, found_by=found_by, original_size=rec.shrink.original_size,
             extra={"signature": sig.slug, "original_case_id": original.case_id if original is not None else None},
         )
         items.append((case, prov))

@@ -1,4 +1,4 @@
-"""Writing a run's report folder: tables, summary, metadata."""
+"""The report stage: a run's records become its files (tables, summary, failure folders, HTML, JUnit); it runs nothing."""
 
 from .tables import failure_counts, status_counts
 from .writer import RowStream, new_run_dir, write_report

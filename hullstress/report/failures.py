@@ -32,7 +32,6 @@ import shutil
 import subprocess
 import sys
 import tempfile
-import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -40,16 +39,14 @@ from typing import Any
 
 import numpy as np
 
-from ..case import Case
 from ..config import NO_EPS, AlgorithmConfig
-from ..contract import FaceSet
 from ..results import ResultRow
+from ..files import atomic_write_bytes, atomic_write_text, atomic_write_with
 from ..triage.grouping import FailureGroup
-from ..triage.shrink import ShrinkResult
 from ..triage.signature import Signature
+from ..triage.records import TriageRecord
 
-__all__ = ["FailureRecord", "write_failure_folder", "draw_picture", "reproduce_command", "python_command",
-           "faces_to_json"]
+__all__ = ["FailureRecord", "write_failure_folder", "draw_picture", "reproduce_command", "python_command"]
 
 
 @dataclass(frozen=True)
@@ -116,19 +113,6 @@ def python_command() -> str:
     return sys.executable
 
 
-@functools.lru_cache(maxsize=1)
-def _run_options() -> frozenset[str]:
-    """Long options the ``run`` subcommand accepts here (``--no-shrink`` may not exist yet)."""
-    from ..cli import build_parser
-
-    parser = build_parser()
-    for action in parser._subparsers._group_actions:  # type: ignore[union-attr]
-        run = action.choices.get("run")  # type: ignore[union-attr]
-        if run is not None:
-            return frozenset(s for a in run._actions for s in a.option_strings)
-    return frozenset()
-
-
 def _plugin_arg(spec: str) -> str:
     path = Path(spec)
     return str(path.resolve()) if (spec.endswith(".py") or path.is_file()) else spec
@@ -188,11 +172,7 @@ def reproduce_command(
         args += ["--workers", "1" if isolate else "0"]
         if timeout is not None:
             args += ["--timeout", _number(timeout)]
-        args += ["--out", out]
-        if "--no-shrink" in _run_options():
-            args.append("--no-shrink")
-        if "--quiet" in _run_options():
-            args.append("--quiet")
+        args += ["--out", out, "--no-shrink", "--quiet"]
     for spec in plugins:
         args += ["--plugin", _plugin_arg(spec)]
     return shlex.join([python_command()] + args) if python_command() != "python" else "python " + shlex.join(args)
@@ -200,15 +180,6 @@ def reproduce_command(
 
 def _number(x: float) -> str:
     return str(int(x)) if float(x).is_integer() else repr(float(x))
-
-
-def faces_to_json(faces: np.ndarray | FaceSet | None) -> Any:
-    """Normalised output faces as JSON-ready lists (2D: one index list; 3D: a list of polygons)."""
-    if faces is None:
-        return None
-    if isinstance(faces, FaceSet):
-        return faces.to_python()
-    return [int(i) for i in np.asarray(faces).ravel()]
 
 
 def _jsonable(value: Any) -> Any:
@@ -246,109 +217,69 @@ def _verdict(row: ResultRow | None) -> dict[str, Any]:
     return out
 
 
-def _output_faces(case: Case, config: AlgorithmConfig, signature: Signature) -> tuple[Any, str]:
-    """The algorithm's output on the minimal case, re-run in this process.
-
-    Only for ``fail`` signatures: the shrinker just saw this exact call return,
-    so re-running it here is safe; errors, timeouts and crashes produce no faces.
-    """
-    if signature.status != "fail":
-        return None, f"no output: the call ends in {signature.status}"
-    from ..evaluate import call_algorithm
-
-    # The code under test may be noisy (overflow warnings on extreme inputs): the
-    # row already records what matters, so keep this re-run quiet.
-    with warnings.catch_warnings(), np.errstate(all="ignore"):
-        warnings.simplefilter("ignore")
-        outcome = call_algorithm(case, config)
-    if outcome.kind == "ok":
-        return faces_to_json(outcome.faces), ""
-    return None, outcome.error
-
-
-def _write_points(folder: Path, points: np.ndarray) -> tuple[Path | None, Path]:
-    """Write points.npy and (when representable) points.csv; return (readable file or None, npy)."""
-    from ..errors import InputFileError
-    from ..io import read_points, write_points
+def _write_points(folder: Path, points: np.ndarray, storage: str) -> tuple[Path | None, Path]:
+    """Write points.npy and, when triage found it exact, points.csv; return (readable file or None, npy)."""
+    from ..io import write_points
 
     npy = folder / "points.npy"
-    with open(npy, "wb") as fh:
-        np.save(fh, np.asarray(points, dtype=np.float64), allow_pickle=False)
-    csv = folder / "points.csv"
-    try:
+    atomic_write_with(npy, lambda fh: np.save(fh, np.asarray(points, dtype=np.float64), allow_pickle=False),
+                      binary=True)
+    if storage == "csv":
+        csv = folder / "points.csv"
         write_points(csv, points, "csv")
-        back = read_points(csv)
-    except (ValueError, InputFileError):
-        csv.unlink(missing_ok=True)
-        back = None
-    if back is not None and back.shape == points.shape and np.array_equal(back, points):
         return csv, npy
-    try:
-        if np.array_equal(read_points(npy), points):
-            return npy, npy
-    except InputFileError:
-        pass
-    return None, npy
+    return (npy if storage == "npy" else None), npy
 
 
 def write_failure_folder(
     root: Path,
-    result: ShrinkResult,
-    config: AlgorithmConfig,
+    record: TriageRecord,
     *,
-    group: FailureGroup | None = None,
     plugins: Sequence[str] = (),
     timeout: float | None = None,
     picture: bool = True,
-    verify: bool = True,
 ) -> FailureRecord:
-    """Write ``root/<signature slug>/`` for one (shrunk) failure.
+    """Write ``root/<signature slug>/`` for one triaged failure group.
 
     Parameters
     ----------
     root : Path
         The ``failures`` folder (created if missing).
-    result : ShrinkResult
-        From :func:`hullstress.triage.shrink` (``reproduced=False`` when not shrunk).
-    config : AlgorithmConfig
-    group : FailureGroup, optional
-        The group's counts, for ``case.json`` and the report.
+    record : TriageRecord
+        From :func:`hullstress.triage.stage.triage_failures` (or
+        :func:`~hullstress.triage.stage.triage_one`): the minimal case, the
+        output faces, the storage form and whether it reproduced from it.
     plugins : sequence of str
         Plug-in specs the algorithm needs (added to the reproduce command).
     timeout : float, optional
         The sweep's per-call timeout (for timeout signatures).
     picture : bool
         Draw ``picture.png`` (or later, with :func:`draw_picture`).
-    verify : bool
-        Re-read the points file and re-run once (isolated when possible) to
-        confirm the failure reproduces from disk.
 
     Returns
     -------
     FailureRecord
     """
-    sig = result.signature
+    sig, config, result = record.signature, record.config, record.shrink
+    group = record.group
     folder = Path(root) / sig.slug
     folder.mkdir(parents=True, exist_ok=True)
     case = result.case
     points = np.asarray(case.points)
-    readable, npy = _write_points(folder, points)
+    readable, npy = _write_points(folder, points, record.storage)
     dangerous = sig.check in ("timeout", "crash")
     command = reproduce_command(
         readable if readable is not None else npy, config, plugins=plugins,
         timeout=timeout if sig.check == "timeout" else None, isolate=dangerous,
         raw_npy=readable is None, dim=case.dim,
     )
-    verified = _verify(readable, npy, case, config, sig, timeout) if verify else None
-
-    row = result.row
-    faces, faces_note = _output_faces(case, config, sig) if not dangerous else (None, f"no output: {sig.check}")
-    verdict = _verdict(row)
+    verified = record.verified
+    verdict = _verdict(result.row)
     offending = verdict.get("offending") or {}
-    (folder / "faces.json").write_text(json.dumps({"faces": faces, "note": faces_note}, indent=1) + "\n")
-    (folder / "verdict.json").write_text(
-        json.dumps({"signature": sig.as_dict(), "config": config.label, **verdict}, indent=2, default=repr) + "\n"
-    )
+    atomic_write_text(folder / "faces.json", json.dumps({"faces": record.faces, "note": record.faces_note},
+                                                         indent=1) + "\n")
+    atomic_write_text(folder / "verdict.json", json.dumps(
+        {"signature": sig.as_dict(), "config": config.label, **verdict}, indent=2, default=repr) + "\n")
     original = result.original
     meta = {
         "signature": sig.as_dict(),
@@ -372,16 +303,16 @@ def write_failure_folder(
         "reproduce": command,
         "verified": verified,
     }
-    (folder / "case.json").write_text(json.dumps(meta, indent=2, default=repr) + "\n")
-    (folder / "reproduce.txt").write_text(command + "\n")
-    record = FailureRecord(
+    atomic_write_text(folder / "case.json", json.dumps(meta, indent=2, default=repr) + "\n")
+    atomic_write_text(folder / "reproduce.txt", command + "\n")
+    out = FailureRecord(
         signature=sig, folder=folder, command=command, points=points, original_size=result.original_size,
         minimal_size=result.minimal_size, shrunk=result.reproduced, shrink_calls=result.calls,
         shrink_seconds=result.seconds, note=result.note, verified=verified,
         reason=str(verdict.get("reason") or ""), failed_checks=str(verdict.get("failed_checks") or ""),
         offending=offending, picture=None, group=group,
     )
-    return draw_picture(record) if picture else record
+    return draw_picture(out) if picture else out
 
 
 def draw_picture(record: FailureRecord) -> FailureRecord:
@@ -395,21 +326,5 @@ def draw_picture(record: FailureRecord) -> FailureRecord:
     dim = json.loads((record.folder / "case.json").read_text())["dim"]
     png = failure_picture(record.points, saved.get("faces"), dim=dim, offending=record.offending,
                           title=f"{record.signature.label}: {record.minimal_size} points")
-    (record.folder / "picture.png").write_bytes(png)
+    atomic_write_bytes(record.folder / "picture.png", png)
     return dataclasses.replace(record, picture=png)
-
-
-def _verify(readable: Path | None, npy: Path, case: Case, config: AlgorithmConfig, sig: Signature,
-            timeout: float | None) -> bool | None:
-    from ..io import read_points
-    from ..triage.oracle import IsolationUnavailable, fails_same_way
-
-    if readable is None:
-        pts, family = np.load(npy, allow_pickle=False), case.family
-        replay = Case(points=pts, dim=case.dim, family=family)
-    else:
-        replay = Case.from_points(read_points(readable), family="file")
-    try:
-        return fails_same_way(replay, config, sig, timeout=timeout)
-    except IsolationUnavailable:
-        return None

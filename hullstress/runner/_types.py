@@ -8,16 +8,14 @@ from typing import Any
 from ..case import Case
 from ..config import AlgorithmConfig
 from ..errors import UsageError
+from ..options import DEFAULTS
 
 __all__ = ["Task", "RunnerOptions", "ExecutionStats", "DEFAULT_MEMORY_LIMIT_MB", "DEFAULT_CHECK_TIMEOUT"]
 
-#: Address-space limit per isolated worker, in MiB.  A worker holding Python,
-#: NumPy and SciPy maps well under 1 GiB; 4 GiB leaves room for large inputs
-#: while letting a runaway allocation fail fast (two workers on a 24 GiB
-#: machine can never take it down).
-DEFAULT_MEMORY_LIMIT_MB = 4096.0
+#: Address-space limit per isolated worker, in MiB (see :class:`hullstress.options.Defaults`).
+DEFAULT_MEMORY_LIMIT_MB = DEFAULTS.memory_limit_mb
 #: Floor of the limit on trusted work in a worker (case facts, the exact checker), in seconds.
-DEFAULT_CHECK_TIMEOUT = 60.0
+DEFAULT_CHECK_TIMEOUT = DEFAULTS.check_timeout_floor
 
 
 @dataclass(frozen=True)
@@ -76,7 +74,7 @@ class RunnerOptions:
     """
 
     workers: int = 0
-    timeout: float = 10.0
+    timeout: float = DEFAULTS.call_timeout
     time_budget: float | None = None
     qhull: bool = True
     memory_limit_mb: float | None = DEFAULT_MEMORY_LIMIT_MB

@@ -1,5 +1,8 @@
 """Triage: group failing rows by signature, shrink each group's smallest case, fuzz.
 
+The pipeline's triage stage is :func:`triage_failures` (:mod:`.stage`); it
+returns plain records (:mod:`.records`) that the report stage writes out.
+
 * :func:`group_failures` -- one :class:`FailureGroup` per :class:`Signature`.
 * :func:`shrink` -- ddmin over points, then coordinate simplification.
 * :func:`fails_same_way` -- the shrinker's oracle (isolated through
@@ -9,8 +12,10 @@
 
 from .grouping import FailureGroup, group_failures, groups_frame
 from .oracle import IsolationUnavailable, fails_same_way, run_config
-from .shrink import ShrinkResult, derive_case, shrink
+from .records import ShrinkResult, TriageRecord, TriageResult
+from .shrink import derive_case, shrink
 from .signature import Signature, failed_check, signature_of
+from .stage import triage_failures, triage_one
 
 __all__ = [
     "FailureGroup",
@@ -25,6 +30,10 @@ __all__ = [
     "run_config",
     "shrink",
     "signature_of",
+    "TriageRecord",
+    "TriageResult",
+    "triage_failures",
+    "triage_one",
 ]
 
 

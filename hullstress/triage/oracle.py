@@ -18,6 +18,7 @@ from typing import Any
 from ..case import Case
 from ..config import AlgorithmConfig
 from ..errors import HullstressError
+from ..options import DEFAULTS
 from ..results import ResultRow
 from .signature import Signature, signature_of
 
@@ -25,7 +26,7 @@ __all__ = ["IsolationUnavailable", "isolated_runner", "run_config", "fails_same_
            "error_kind", "DEFAULT_TIMEOUT"]
 
 #: Per-call timeout (seconds) for isolated calls when the caller gives none.
-DEFAULT_TIMEOUT = 10.0
+DEFAULT_TIMEOUT = DEFAULTS.call_timeout
 
 
 class IsolationUnavailable(HullstressError):

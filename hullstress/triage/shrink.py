@@ -20,7 +20,6 @@ out the best case found so far is returned, marked ``exhausted``.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -29,6 +28,7 @@ from ..config import AlgorithmConfig
 from ..results import ResultRow
 from .ddmin import ddmin
 from .oracle import IsolationUnavailable, error_kind, run_config, same_failure
+from .records import ShrinkResult
 from .signature import Signature, signature_of
 from .simplify import coordinate_candidates, mantissa_bits, pow2_normalize, round_mantissa
 
@@ -36,54 +36,6 @@ __all__ = ["ShrinkResult", "shrink", "derive_case"]
 
 #: Global mantissa widths tried, fewest first.
 _GLOBAL_BITS = (1, 2, 3, 4, 6, 8, 12, 16, 20, 24, 32, 40, 48)
-
-
-@dataclass(frozen=True)
-class ShrinkResult:
-    """What shrinking one case produced.
-
-    Attributes
-    ----------
-    case : Case
-        The minimal case (the original when nothing could be removed).
-    original : Case
-    signature : Signature
-    original_size, minimal_size : int
-        Point counts before and after.
-    calls : int
-        Judged calls made (cache hits not counted).
-    seconds : float
-    reproduced : bool
-        The original case failed with ``signature`` when re-run.  When False,
-        ``case`` is the original and ``note`` says why.
-    exhausted : bool
-        The time or call budget ran out before the passes finished.
-    row : ResultRow or None
-        The failing row of ``case`` (its verdict, offending indices, reason).
-    steps : tuple of str
-        One line per accepted simplification, for the report.
-    note : str
-        Why shrinking stopped early or did not run, or ``""``.
-    """
-
-    case: Case
-    original: Case
-    signature: Signature
-    original_size: int
-    minimal_size: int
-    calls: int
-    seconds: float
-    reproduced: bool
-    exhausted: bool = False
-    row: ResultRow | None = None
-    steps: tuple[str, ...] = field(default=())
-    note: str = ""
-
-    @property
-    def max_mantissa_bits(self) -> int:
-        """The most significant bits any coordinate of the minimal case uses."""
-        pts = self.case.points
-        return int(mantissa_bits(pts).max()) if pts.size else 0
 
 
 class _Stop(Exception):

@@ -1,0 +1,146 @@
+"""One home for the defaults: profiles, limits and budgets, read by the CLI, the runner and the pipeline.
+
+* :data:`DEFAULTS` -- limits that do not depend on the sweep's size: the
+  per-call timeout when nothing else says, the floor of the checker's time
+  limit, the memory limit of a worker, caps on failure folders and shrink calls.
+* :class:`Profile` and :data:`PROFILES` -- how big a sweep is: sizes per
+  dimension, seeds, the per-call timeout, and the triage and report budgets.
+  ``quick`` is the default of ``python -m hullstress run``; ``nightly`` is
+  sized for about 30 minutes on 2 cores.
+
+Nothing here imports more than the standard library and hullstress's errors,
+so the CLI can build its ``--help`` without loading NumPy.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from types import MappingProxyType
+
+from .errors import UsageError
+
+__all__ = ["Defaults", "DEFAULTS", "TriageBudget", "Profile", "PROFILES", "get_profile"]
+
+
+@dataclass(frozen=True)
+class Defaults:
+    """Limits shared by every command.
+
+    Attributes
+    ----------
+    call_timeout : float
+        Per-call timeout in seconds when neither a profile nor ``--timeout`` gives one
+        (``shrink``, ``fuzz``, ``replay``, ``check``).
+    check_timeout_floor : float
+        The checker's limit per step in a worker is ``max(this, 10 * call timeout)``.
+    memory_limit_mb : float
+        Address-space limit per isolated worker in MiB.  A worker holding
+        Python, NumPy and SciPy maps well under 1 GiB; 4 GiB leaves room for
+        large inputs while letting a runaway allocation fail fast (two workers
+        on a 24 GiB machine can never take it down).
+    max_folders : int
+        At most this many failure folders per run (worst groups first).
+    shrink_max_calls : int
+        Cap on judged calls of one shrink.
+    """
+
+    call_timeout: float = 10.0
+    check_timeout_floor: float = 60.0
+    memory_limit_mb: float = 4096.0
+    max_folders: int = 2000
+    shrink_max_calls: int = 2000
+
+
+#: The one defaults object.
+DEFAULTS = Defaults()
+
+
+@dataclass(frozen=True)
+class TriageBudget:
+    """Time limits of triage and of the report's pictures, in seconds.
+
+    Attributes
+    ----------
+    shrink_total, shrink_per_group : float
+        Shrinking, over all groups and per group.
+    total : float
+        Triage as a whole; groups past it are listed in the tables without a
+        minimised case or folder.
+    pictures : float
+        Drawing pictures in the report (groups past it get a folder without one).
+    """
+
+    shrink_total: float
+    shrink_per_group: float
+    total: float
+    pictures: float
+
+
+@dataclass(frozen=True)
+class Profile:
+    """A named sweep size.
+
+    Attributes
+    ----------
+    name : str
+    sizes : mapping of int to tuple of int
+        Point counts per dimension (fixed-size families ignore them).
+    replicates : int
+        Seeds per (family, variant, dim, size).
+    timeout : float
+        Default per-call timeout in seconds.
+    triage : TriageBudget
+    description : str
+    """
+
+    name: str
+    sizes: Mapping[int, tuple[int, ...]]
+    replicates: int
+    timeout: float
+    triage: TriageBudget
+    description: str
+
+
+PROFILES: Mapping[str, Profile] = MappingProxyType(
+    {
+        "quick": Profile(
+            name="quick",
+            sizes=MappingProxyType({2: (24,), 3: (24,)}),
+            replicates=1,
+            timeout=10.0,
+            # The whole run stays under a minute on 2 cores (the sweep takes ~20 s).
+            triage=TriageBudget(shrink_total=10.0, shrink_per_group=2.0, total=25.0, pictures=8.0),
+            description="every family and variant once at a small size; under a minute on 2 cores",
+        ),
+        "nightly": Profile(
+            name="nightly",
+            # Measured on 2 cores: one seed of every family at n=256 is ~100 s of sweep;
+            # n=512 roughly quadruples that (naive-2d is O(n^3), Henckel's pivoting O(n h)).
+            sizes=MappingProxyType({2: (16, 64, 256, 512), 3: (16, 64, 256, 512)}),
+            replicates=2,
+            timeout=30.0,
+            triage=TriageBudget(shrink_total=300.0, shrink_per_group=30.0, total=900.0, pictures=120.0),
+            description="every family and variant at four sizes up to 512 points with two seeds; "
+            "about 30 minutes on 2 cores",
+        ),
+    }
+)
+
+
+def get_profile(name: str) -> Profile:
+    """Return the profile ``name`` or raise UsageError listing the valid ones.
+
+    Examples
+    --------
+    >>> get_profile("quick").sizes[3]
+    (24,)
+    >>> get_profile("weekly")
+    Traceback (most recent call last):
+    ...
+    hullstress.errors.UsageError: unknown profile 'weekly'; valid profiles: quick, nightly
+    """
+    try:
+        return PROFILES[name]
+    except KeyError:
+        raise UsageError(f"unknown profile {name!r}; valid profiles: {', '.join(PROFILES)}") from None
