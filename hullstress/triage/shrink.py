@@ -25,6 +25,7 @@ import numpy as np
 
 from ..case import Case, points_digest
 from ..config import AlgorithmConfig
+from ..options import DEFAULTS
 from ..results import ResultRow
 from .ddmin import ddmin
 from .oracle import IsolationUnavailable, error_kind, run_config, same_failure
@@ -94,7 +95,7 @@ def shrink(
     signature: Signature | None = None,
     *,
     budget_seconds: float = 10.0,
-    max_calls: int = 2000,
+    max_calls: int = DEFAULTS.shrink_max_calls,
     timeout: float | None = None,
     isolate: bool | None = None,
     simplify: bool = True,
