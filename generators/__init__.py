@@ -22,19 +22,29 @@ module                      families
                             simplex-points
 :mod:`.kettner`             kettner-classroom, kettner-ulp-grid
 :mod:`.scale`               scaled, offset, mixed-magnitude, subnormal
+:mod:`.few_points`          few-points (d, d+1, d+2 points, a repeated row)
+:mod:`.float32`             float32 (values exactly representable in float32)
+:mod:`.aspect`              aspect-ratio (needles and slabs, scipy 14185)
+:mod:`.prism`               prism (extruded polygons, cocircular rings)
+:mod:`.rings`               closed-ring (GIS rings, first point repeated last)
+:mod:`.tiny`                tiny-residue (6e-17 where a zero was meant)
+:mod:`.compose`             compose (any family plus a placement hazard;
+                            :data:`~.compose.COMPOSITIONS` the curated pairs)
 :mod:`.bad_input`           bad-input (breaks the output contract on purpose)
 :mod:`.transforms`          metamorphic transforms (:data:`TRANSFORMS`)
+:mod:`.metamorphic`         seeded chains of transforms, comparing two answers
+:mod:`.spec`                generator specs as text (``name:key=value,...``)
 ==========================  =====================================================
 
 Public API: :func:`generate`, :func:`min_size`, :func:`catalogue`,
 :func:`family_names`, :data:`TRANSFORMS`, :func:`apply_transform`,
-:class:`Transformed`.
+:func:`apply_transforms`, :func:`vertex_set_change`, :class:`Transformed`,
+:func:`parse_spec`, :func:`format_spec`.
 """
 
 from __future__ import annotations
 
 import inspect
-import zlib
 from collections.abc import Sequence
 from typing import Any
 
@@ -42,8 +52,29 @@ import numpy as np
 
 from hullstress.registry import GeneratorSpec, get_generator, generators as _registered
 
-from . import bad_input, classics, collinear, coplanar, duplicates, jitter, kettner, minkowski, regular, scale, slivers
+from . import (
+    aspect,
+    bad_input,
+    classics,
+    collinear,
+    compose,
+    coplanar,
+    duplicates,
+    few_points,
+    float32,
+    jitter,
+    kettner,
+    minkowski,
+    prism,
+    regular,
+    rings,
+    scale,
+    slivers,
+    tiny,
+)
 from ._common import MIN_SIZE_RULES, GeneratorValueError
+from .spec import format_spec, parse_spec
+from .metamorphic import apply_transforms, vertex_set_change
 from .transforms import TRANSFORMS, Transformed, apply_transform
 
 __all__ = [
@@ -54,6 +85,10 @@ __all__ = [
     "TRANSFORMS",
     "Transformed",
     "apply_transform",
+    "apply_transforms",
+    "vertex_set_change",
+    "parse_spec",
+    "format_spec",
     "GeneratorValueError",
     "FAMILY_MODULES",
 ]
@@ -61,6 +96,7 @@ __all__ = [
 #: The modules that define the built-in families (imported above: they register on import).
 FAMILY_MODULES = (
     duplicates, coplanar, collinear, slivers, minkowski, jitter, classics, regular, kettner, scale, bad_input,
+    few_points, float32, aspect, prism, rings, tiny, compose,
 )
 
 #: Families whose output may break the (n, dim) float64 contract on purpose.
@@ -104,11 +140,6 @@ def min_size(name: str, *, dim: int, **params: Any) -> int:
     merged = _merged_params(spec, params)
     rule = MIN_SIZE_RULES.get(name)
     return int(rule(dim, **merged)) if rule is not None else 1
-
-
-def _stable_id(text: str) -> int:
-    # zlib.crc32 is stable across runs and platforms (unlike hash()).
-    return zlib.crc32(text.encode("utf-8"))
 
 
 def generate(
@@ -169,13 +200,9 @@ def generate(
     points = spec.func(np.random.default_rng(int(seed)), n, dim=dim, **params)
     if name not in CONTRACT_EXEMPT:
         _check_contract(name, points, None if spec.fixed_size else n, dim)
-    if transform is None:
+    if transform is None or (not isinstance(transform, str) and not list(transform)):
         return points
-    names = [transform] if isinstance(transform, str) else list(transform)
-    for i, t in enumerate(names):
-        rng = np.random.default_rng([int(seed), _stable_id(str(t)), i])
-        points = apply_transform(t, points, rng).points
-    return np.ascontiguousarray(points)
+    return np.ascontiguousarray(apply_transforms(points, transform, seed=int(seed)).points)
 
 
 def _check_contract(name: str, points: Any, n: int | None, dim: int) -> None:

@@ -23,6 +23,7 @@ __all__ = [
     "check_choice",
     "check_positive",
     "check_int",
+    "check_bool",
     "declare_min_size",
     "MIN_SIZE_RULES",
     "finish",
@@ -41,8 +42,12 @@ __all__ = [
     "uniform_ball",
     "on_sphere",
     "cube_surface",
+    "box_points",
+    "sector_polygon",
     "orient_sign",
     "orient_exact",
+    "affine_rank_exact",
+    "round_to_float32",
 ]
 
 _F64 = np.float64
@@ -105,6 +110,13 @@ def check_int(family: str, name: str, value: Any, lo: int, hi: int | None = None
         rng = f">= {lo}" if hi is None else f"in [{lo}, {hi}]"
         raise GeneratorValueError(f"{family}: {name} must be an integer {rng}, got {value!r}")
     return int(value)
+
+
+def check_bool(family: str, name: str, value: Any) -> bool:
+    """Return ``value`` if it is a bool (numpy's included), else raise naming the parameter."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise GeneratorValueError(f"{family}: {name} must be True or False, got {value!r}")
+    return bool(value)
 
 
 #: family name -> rule(dim, **params) -> smallest n the family accepts.
@@ -247,6 +259,25 @@ def cube_surface(rng: np.random.Generator, n: int, dim: int, width: float = 0.0)
     return pts
 
 
+def box_points(rng: np.random.Generator, n: int, dim: int) -> np.ndarray:
+    """The 2**dim corners of [-1, 1]**dim, then n - 2**dim points exactly on its faces (rbox W0)."""
+    corners = (lattice(2, dim) * 2 - 1).astype(_F64)
+    return np.concatenate([corners, cube_surface(rng, n - len(corners), dim, 0.0)])
+
+
+def sector_polygon(rng: np.random.Generator, k: int, *, wobble: bool) -> np.ndarray:
+    """k points around the origin, counter-clockwise, one per sector of angle 2 pi / k.
+
+    Each angle lies in the middle 40% of its sector, so consecutive points
+    turn by less than pi and the origin is strictly inside the polygon.
+    Radius 1 (cocircular up to rounding), or uniform in [0.5, 1] with
+    ``wobble`` (a star-shaped, usually non-convex polygon).
+    """
+    angles = 2.0 * math.pi * (np.arange(k) + rng.uniform(0.3, 0.7, k)) / k
+    r = rng.uniform(0.5, 1.0, k) if wobble else np.ones(k)
+    return np.column_stack([r * np.cos(angles), r * np.sin(angles)])
+
+
 # ---------------------------------------------------------------------------
 # ulp arithmetic on the ordered integer image of float64
 
@@ -313,6 +344,31 @@ def random_ulp_offsets(
     return k
 
 
+_F32_MAX = float(np.finfo(np.float32).max)
+
+
+def round_to_float32(points: np.ndarray, family: str = "float32") -> np.ndarray:
+    """Round every coordinate to the nearest float32 (ties to even) and return it as float64.
+
+    This is what happens to data that passes through a C/C++/Rust ``float``:
+    the result holds only values exactly representable in float32 (24
+    significant bits, spacing 2**-23 relative), so ``x == float(np.float32(x))``
+    for every entry.  Finite values beyond float32's range raise instead of
+    silently becoming infinities.
+
+    Examples
+    --------
+    >>> round_to_float32(np.array([[0.1, 1.0]])).tolist()
+    [[0.10000000149011612, 1.0]]
+    """
+    p = np.asarray(points, dtype=_F64)
+    if p.size and float(np.max(np.abs(p))) > _F32_MAX:
+        raise GeneratorValueError(
+            f"{family}: coordinates up to {float(np.max(np.abs(p))):.3g} overflow float32 (max {_F32_MAX:.4g})"
+        )
+    return p.astype(np.float32).astype(_F64)
+
+
 # ---------------------------------------------------------------------------
 # exact orientation (used to certify interior points and by the tests)
 
@@ -351,6 +407,37 @@ def orient_exact(rows: Sequence[Sequence[float]]) -> int:
     else:
         raise GeneratorValueError(f"orient_exact: need 2, 3 or 4 points of matching dimension, got {len(pts)}")
     return (det > 0) - (det < 0)
+
+
+def affine_rank_exact(rows: Sequence[Sequence[float]]) -> int:
+    """Exact affine rank of a few points (-1 for none, 0 for one distinct point, 1 collinear...).
+
+    Rational Gaussian elimination on the differences to the first point;
+    meant for the handful of points of a small case, not for clouds.
+
+    Examples
+    --------
+    >>> affine_rank_exact([(0.0, 0.0), (1.0, 1.0), (2.0, 2.0)])
+    1
+    >>> affine_rank_exact([(0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1e-300)])
+    3
+    """
+    pts = [[Fraction(float(c)) for c in p] for p in rows]
+    if not pts:
+        return -1
+    mat = [[a - b for a, b in zip(p, pts[0])] for p in pts[1:]]
+    rank = 0
+    for col in range(len(pts[0])):
+        pivot = next((i for i in range(rank, len(mat)) if mat[i][col] != 0), None)
+        if pivot is None:
+            continue
+        mat[rank], mat[pivot] = mat[pivot], mat[rank]
+        for i in range(rank + 1, len(mat)):
+            f = mat[i][col] / mat[rank][col]
+            if f:
+                mat[i] = [a - f * b for a, b in zip(mat[i], mat[rank])]
+        rank += 1
+    return rank
 
 
 def orient_sign(simplices: np.ndarray) -> np.ndarray:

@@ -11,6 +11,19 @@ or y spanning 1e8 as in scipy issue 14185) make relative errors in one
 coordinate swamp the other.  Subnormal coordinates lose precision gradually
 and every product of two of them is zero.
 
+Between the extremes lie the moderate scales where real data lives and a
+fixed epsilon breaks: millimetres of a part (x1e3), coordinates in metres of
+a projected map (x1e6, offsets of 5e5 to 1e7 in UTM), nanometres or
+micrometres expressed in metres, 1e9..1e12 in astronomy and chip layout.  A
+tolerance of 1e-10 chosen at unit scale is 1e-16 relative at x1e6, below the
+rounding of a single coordinate: the seed's gift-wrapping with a ``fixed``
+eps fails every cloud at x1e6 and none with ``scaled`` eps.  Reports:
+PointCloudLibrary/pcl#6161 (four 2D points with coordinates 5939..12000:
+Qhull's flat initial simplex, order dependent), georust/geo#1028 (a hull
+near (813580, 817846) keeping a point below its neighbours' chord),
+shapely/shapely#555 (a point at (2.8e8, 7.6e6) beside a cluster at 1e-4: a
+segmentation fault).
+
 rbox equivalents: ``B<n>`` (box size), ``O<n>`` (offset), ``z`` (integer output).
 """
 
@@ -62,6 +75,11 @@ def base_shape(rng: np.random.Generator, n: int, dim: int, base: str) -> np.ndar
     "scaled",
     dims=(2, 3),
     variants=(
+        {"scale": 1e3},
+        {"scale": 1e6},
+        {"scale": 1e9},
+        {"scale": 1e12},
+        {"base": "grid", "scale": 1e6},
         {"scale": 1e-300},
         {"scale": 1e-150},
         {"scale": 1e150},
@@ -80,7 +98,7 @@ def scaled(
     base: str = "ball",
     scale: float = 1e300,
 ) -> np.ndarray:
-    """A unit shape multiplied by scale (1e-300 to the largest double): overflow and underflow.
+    """A unit shape multiplied by scale (1e3..1e12 where fixed epsilons break; 1e-300..1e308: over/underflow).
 
     Parameters
     ----------
@@ -93,6 +111,7 @@ def scaled(
     scale : float
         Multiplier, 0 < scale <= 1.7976931348623157e308 (the largest double:
         coordinates up to it, every difference of two of them may overflow).
+        The sweeps run the moderate 1e3, 1e6, 1e9, 1e12 and the extremes.
 
     Returns
     -------
@@ -124,7 +143,10 @@ def scaled(
     "offset",
     dims=(2, 3),
     variants=(
+        {"offset": 1e6},
         {"offset": 1e8},
+        {"offset": 1e9},
+        {"base": "grid", "offset": 1e6},
         {"offset": 1e12},
         {"offset": 1e15},
         {"base": "grid", "offset": 1e15},
@@ -150,8 +172,9 @@ def offset(
     base : {"ball", "cube-faces", "grid"}
         The unit shape (see :func:`base_shape`).
     offset : float
-        Added to every coordinate (>= 0; 1e8 to 1e15 in the sweeps).  At 1e15
-        the spacing of doubles is 1/8, so the shape is quantised.
+        Added to every coordinate (>= 0; 1e6 to 1e15 in the sweeps: 1e6 is a
+        UTM coordinate in metres).  At 1e15 the spacing of doubles is 1/8, so
+        the shape is quantised.
 
     Returns
     -------

@@ -9,6 +9,8 @@ hull at all.
 name               exact relation to the original hull
 =================  ===========================================================
 ``permute-rows``   same point set: same hull, indices mapped by ``source_rows``
+``reverse-rows``   the rows in reverse order: same point set, and every
+                   sort-based algorithm breaks its ties the other way
 ``scale-pow2``     multiplied by 2**k (checked exact): same combinatorial hull
                    (same vertex indices and faces, same orientation); volume
                    times 2**(k*d)
@@ -23,9 +25,16 @@ name               exact relation to the original hull
                    hull, the new rows (``source_rows == -1``) are never on it
 =================  ===========================================================
 
+Every transform keeps the set of hull vertices, as points: a correct
+algorithm's answer on the transformed input, mapped back through
+``source_rows``, names the same input points as its answer on the original
+(:func:`generators.metamorphic.vertex_set_change` compares them).
+
 The functions take the parameters explicitly; :data:`TRANSFORMS` maps each
 name to a ``(points, rng) -> Transformed`` callable that draws them from
-``rng``, which is how :func:`generators.generate` applies ``transform=...``.
+``rng``; :mod:`generators.metamorphic` applies chains of them with seeded
+generators, which is how :func:`generators.generate` applies
+``transform=...`` and how a sweep applies them to a case.
 """
 
 from __future__ import annotations
@@ -42,6 +51,7 @@ from ._common import GeneratorValueError, combine, orient_exact, orient_sign, ro
 __all__ = [
     "Transformed",
     "permute_rows",
+    "reverse_rows",
     "scale_pow2",
     "permute_axes",
     "reflect",
@@ -113,6 +123,23 @@ def permute_rows(points: np.ndarray, rng: np.random.Generator) -> Transformed:
     p = _as_points(points, "permute_rows")
     perm = rng.permutation(len(p))
     return Transformed(np.ascontiguousarray(p[perm]), perm.astype(np.int64), "permute-rows", {"perm": perm.tolist()})
+
+
+def reverse_rows(points: np.ndarray) -> Transformed:
+    """Reverse the row order: the same point set, with every tie met in the opposite order.
+
+    A random permutation almost never produces the reversed order, yet that
+    is the one that flips which of two equal keys a stable sort puts first
+    (lexicographic grids, duplicated rows, equal x columns).
+
+    Examples
+    --------
+    >>> reverse_rows(np.array([[0.0, 1.0], [2.0, 3.0]])).points.tolist()
+    [[2.0, 3.0], [0.0, 1.0]]
+    """
+    p = _as_points(points, "reverse_rows")
+    rows = np.arange(len(p) - 1, -1, -1, dtype=np.int64)
+    return Transformed(np.ascontiguousarray(p[rows]), rows, "reverse-rows", {})
 
 
 def safe_pow2_range(points: np.ndarray) -> tuple[int, int]:
@@ -404,6 +431,10 @@ def _t_permute_rows(points: np.ndarray, rng: np.random.Generator) -> Transformed
     return permute_rows(points, rng)
 
 
+def _t_reverse_rows(points: np.ndarray, rng: np.random.Generator) -> Transformed:
+    return reverse_rows(points)
+
+
 def _t_scale_pow2(points: np.ndarray, rng: np.random.Generator) -> Transformed:
     lo, hi = safe_pow2_range(_as_points(points, "scale-pow2"))
     choices = [k for k in range(-64, 65) if k != 0 and lo <= k <= hi]
@@ -439,6 +470,7 @@ def _t_add_interior(points: np.ndarray, rng: np.random.Generator) -> Transformed
 #: name -> ``f(points, rng) -> Transformed`` with parameters drawn from ``rng``.
 TRANSFORMS: dict[str, Callable[[np.ndarray, np.random.Generator], Transformed]] = {
     "permute-rows": _t_permute_rows,
+    "reverse-rows": _t_reverse_rows,
     "scale-pow2": _t_scale_pow2,
     "permute-axes": _t_permute_axes,
     "reflect": _t_reflect,

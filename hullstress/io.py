@@ -32,6 +32,7 @@ message naming the file and the problem.
 
 from __future__ import annotations
 
+import math
 import os
 import re
 from collections.abc import Sequence
@@ -75,7 +76,8 @@ def parse_float(token: str) -> float:
     Returns
     -------
     float
-        The correctly rounded double (decimal) or the exact double (hex).
+        The correctly rounded double (decimal) or the exact double (hex); a
+        literal beyond the largest double is ±inf in both notations.
 
     Raises
     ------
@@ -88,7 +90,10 @@ def parse_float(token: str) -> float:
     (0.1875, True)
     """
     if _HEX_RE.match(token):
-        return float.fromhex(token)
+        try:
+            return float.fromhex(token)
+        except OverflowError:  # as float("1e999") does: too large is infinite (then refused as non-finite)
+            return -math.inf if token.startswith("-") else math.inf
     return float(token)
 
 
@@ -154,18 +159,34 @@ def _point_rows(path: Path, rows: list[tuple[int, list[str]]], dim: int | None) 
     """Parse rows of coordinates, each row one point with the same number of columns."""
     width = dim if dim is not None else len(rows[0][1])
     values: list[float] = []
-    for number, tokens in rows:
+    first_bad: tuple[int, int, str] | None = None  # (point, line, token) of the first non-finite row
+    n_bad = 0
+    for point, (number, tokens) in enumerate(rows):
         if len(tokens) != width:
             raise InputFileError(
                 f"{_label(path, 'points')}: ragged rows: line {number} has {len(tokens)} values, expected {width}"
             )
+        row_bad = None
         for tok in tokens:
             try:
-                values.append(parse_float(tok))
+                x = parse_float(tok)
             except ValueError:
                 raise InputFileError(
                     f"{_label(path, 'points')}: non-numeric token {tok!r} at line {number}"
                 ) from None
+            if row_bad is None and not math.isfinite(x):
+                row_bad = tok  # "nan", "inf", or a literal that overflows such as 1e999
+            values.append(x)
+        if row_bad is not None:
+            n_bad += 1
+            first_bad = first_bad or (point, number, row_bad)
+    if first_bad is not None:
+        point, number, tok = first_bad
+        others = f" ({n_bad} points in all)" if n_bad > 1 else ""
+        raise InputFileError(
+            f"{_label(path, 'points')}: point {point} at line {number} has a non-finite coordinate "
+            f"{tok!r}{others}; hull inputs must be finite"
+        )
     return np.array(values, dtype=np.float64).reshape(len(rows), width)
 
 
@@ -286,10 +307,15 @@ def _validate_points(path: Path, pts: np.ndarray, dim: int | None) -> np.ndarray
         raise InputFileError(f"{_label(path, 'points')}: wrong dimension: expected {dim} coordinates per point, got {d}")
     if d not in (2, 3):
         raise InputFileError(f"{_label(path, 'points')}: wrong dimension: expected 2 or 3 coordinates per point, got {d}")
-    bad = ~np.isfinite(pts)
-    if bad.any():
-        row = int(np.argmax(bad.any(axis=1)))
-        raise InputFileError(f"{_label(path, 'points')}: non-finite coordinate {pts[row][bad[row]][0]!r} in point {row}")
+    bad_rows = np.flatnonzero(~np.all(np.isfinite(pts), axis=1))
+    if len(bad_rows):  # text formats are checked per line in _point_rows; this names the array row
+        row = int(bad_rows[0])
+        value = float(pts[row][~np.isfinite(pts[row])][0])
+        others = f" ({len(bad_rows)} points in all)" if len(bad_rows) > 1 else ""
+        raise InputFileError(
+            f"{_label(path, 'points')}: point {row} (row {row} of the array) has a non-finite coordinate "
+            f"{value!r}{others}; hull inputs must be finite"
+        )
     return np.ascontiguousarray(pts, dtype=np.float64)
 
 

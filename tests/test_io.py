@@ -8,6 +8,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
+from hullstress.cli import main
 from hullstress.errors import InputFileError
 from hullstress.io import parse_float, read_faces, read_points, write_faces, write_points
 
@@ -68,6 +69,14 @@ def test_integer_npy_points_are_accepted_when_exact(tmp_path):
         read_points(path)
 
 
+NON_FINITE = [
+    ("rows.csv", "x,y\n1,2\n3,4\nnan,3\n5,inf\n", "point 2 at line 4 has a non-finite coordinate 'nan' (2 points in all)"),
+    ("one.xyz", "0 0 0\n1 0 0\n0 -inf 1\n", "point 2 at line 3 has a non-finite coordinate '-inf'"),
+    ("rbox.txt", "2 rbox 3 D2\n3\n0 0\n1e999 0\n0 1\n", "point 1 at line 4 has a non-finite coordinate '1e999'"),
+    ("mesh.off", "OFF\n3 0 0\n0 0 0\nNaN 1 0\n0 1 1\n", "point 1 at line 4 has a non-finite coordinate 'NaN'"),
+    ("hex.csv", "0x1p0,0\n0,0x1p2000\n", "point 1 at line 2 has a non-finite coordinate '0x1p2000'"),
+]
+
 BAD_POINTS = [
     ("missing.csv", None, "does not exist"),
     ("empty.csv", "", "is empty"),
@@ -78,6 +87,7 @@ BAD_POINTS = [
     ("nan.csv", "1,2\nnan,3\n", "non-finite"),
     ("count.txt", "2\n5\n0 0\n1 1\n", "announces 5 points, the file has 2"),
     ("bad.off", "OFF\n2 0 0\n0 0 0\n", "announces 2 vertices"),
+    *NON_FINITE,  # named by point index and line
 ]
 
 
@@ -136,3 +146,22 @@ def test_bad_faces_files(tmp_path):
         read_faces(path)
     with pytest.raises(InputFileError, match="does not exist"):
         read_faces(tmp_path / "nope.i")
+
+
+def test_non_finite_npy_rows_are_named_by_array_row(tmp_path):
+    path = tmp_path / "p.npy"
+    np.save(path, np.array([[0.0, 0.0], [1.0, 2.0], [np.inf, 0.0], [0.0, np.nan]]))
+    with pytest.raises(InputFileError) as info:
+        read_points(path)
+    msg = str(info.value)
+    assert "point 2 (row 2 of the array) has a non-finite coordinate inf (2 points in all)" in msg
+    assert "p.npy" in msg and "\n" not in msg
+
+
+@pytest.mark.parametrize("name,text,message", NON_FINITE[:3], ids=[n for n, _, _ in NON_FINITE[:3]])
+def test_run_with_a_non_finite_points_file_exits_2_with_one_line(tmp_path, capsys, name, text, message):
+    path = tmp_path / name
+    path.write_text(text)
+    assert main(["run", "--points-file", str(path), "--out", str(tmp_path / "out"), "--workers", "0"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and message in err and "Traceback" not in err

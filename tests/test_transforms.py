@@ -27,6 +27,7 @@ from generators.transforms import (
     permute_axes,
     permute_rows,
     reflect,
+    reverse_rows,
     safe_pow2_range,
     scale_pow2,
 )
@@ -210,3 +211,11 @@ def test_generate_chains_transforms():
     pts = G.generate("collinear-edges", 16, dim=2, seed=2, transform=["duplicate-all", "permute-rows", "reflect"])
     assert pts.shape == (32, 2)
     assert len(np.unique(pts, axis=0)) == 16
+
+
+@given(any_points)
+def test_reverse_rows_is_the_same_point_set_backwards(points):
+    t = reverse_rows(points)
+    assert t.points.tobytes() == points[::-1].tobytes() == points[t.source_rows].tobytes()
+    assert reverse_rows(t.points).points.tobytes() == points.tobytes()
+
