@@ -27,7 +27,7 @@ import math
 
 import numpy as np
 
-from hullstress import register_generator
+from hullstress.registry import register_generator
 
 from ._common import (
     GeneratorValueError,

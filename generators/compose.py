@@ -28,7 +28,7 @@ from typing import Any
 
 import numpy as np
 
-from hullstress import register_generator
+from hullstress.registry import register_generator
 from hullstress._registry import get_generator
 
 from ._common import (

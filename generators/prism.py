@@ -30,7 +30,7 @@ import math
 
 import numpy as np
 
-from hullstress import register_generator
+from hullstress.registry import register_generator
 
 from ._common import (
     GeneratorValueError,

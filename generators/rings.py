@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from hullstress import register_generator
+from hullstress.registry import register_generator
 
 from ._common import check_choice, check_dim, check_n, check_positive, declare_min_size, finish, sector_polygon
 

@@ -30,7 +30,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from hullstress import register_generator
+from hullstress.registry import register_generator
 
 from ._common import (
     apply_matrix,
