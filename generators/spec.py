@@ -29,7 +29,7 @@ from typing import Any
 
 import numpy as np
 
-from hullstress._registry import GeneratorSpec, get_generator
+from hullstress.registry import GeneratorSpec, get_generator
 from hullstress.errors import GeneratorValueError, UnknownNameError, UsageError
 
 __all__ = ["parse_spec", "format_spec", "convert_value", "check_params"]
