@@ -17,15 +17,15 @@ from typing import Any
 import numpy as np
 
 from .case import Case
-from .corpus import provenance_for
+from .corpus import provenance_for, with_stage
 from .replay import add_to_corpus
 
 __all__ = ["corpus_signature", "select_for_corpus", "save_minimised_failures"]
 
 
-def corpus_signature(check: str) -> str:
+def corpus_signature(check: str, stage: str = "algorithm") -> str:
     """A triage signature's check as a corpus signature (``containment`` -> ``fail:containment``)."""
-    return check if check in ("error", "timeout", "crash") else f"fail:{check}"
+    return with_stage(check if check in ("error", "timeout", "crash") else f"fail:{check}", stage)
 
 
 def select_for_corpus(records: Sequence[Any], new_groups: Collection[tuple[str, ...]] | None = None) -> list[Any]:
@@ -43,7 +43,7 @@ def select_for_corpus(records: Sequence[Any], new_groups: Collection[tuple[str, 
         sig = rec.signature
         if rec.points is None:  # no folder was written for this group
             continue
-        if new_groups is not None and (sig.algorithm, sig.sphere, sig.eps, sig.family, corpus_signature(sig.check)) not in new_groups:
+        if new_groups is not None and (sig.algorithm, sig.sphere, sig.eps, sig.family, corpus_signature(sig.check, sig.stage)) not in new_groups:
             continue
         key = (sig.algorithm, sig.family)
         if key not in best or rec.minimal_size < best[key].minimal_size:
