@@ -32,6 +32,7 @@ from .errors import (
 )
 from .evaluate import evaluate
 from .results import ResultRow, to_frame
+from .records import Stage
 from .tolerance import EpsPolicy, tolerance
 from .verdict import Verdict
 
@@ -51,6 +52,7 @@ __all__ = [
     "HullstressError",
     "InputFileError",
     "ResultRow",
+    "Stage",
     "UnknownNameError",
     "UsageError",
     "Verdict",

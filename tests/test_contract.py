@@ -99,15 +99,10 @@ def _shuffled_hull(points):
     """Qhull's outward triangles, each rotated and the list shuffled anew on every call (a test algorithm)."""
     import random
 
-    from scipy.spatial import ConvexHull
+    from _hull_oracle import qhull_outward
 
-    hull = ConvexHull(points)
-    faces = hull.simplices.copy()
-    a, b, c = (points[faces[:, k]] for k in range(3))
-    inward = np.einsum("ij,ij->i", np.cross(b - a, c - a), hull.equations[:, :3]) < 0
-    faces[inward] = faces[inward][:, ::-1]
     rnd = random.SystemRandom()
-    out = [list(np.roll(f, rnd.randrange(3))) for f in faces]
+    out = [list(np.roll(f, rnd.randrange(3))) for f in qhull_outward(points)]
     rnd.shuffle(out)
     return out
 

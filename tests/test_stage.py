@@ -17,18 +17,13 @@ from hullstress.results import to_frame
 from hullstress.triage import signature_of
 from hullstress._registry import register_algorithm
 
+from _hull_oracle import qhull_outward
+
 
 @register_algorithm("test-qhull-3d-stage", dim=3)
 def _qhull_3d(points):
     """Qhull through scipy, every triangle turned outward (a test algorithm, correct on random clouds)."""
-    from scipy.spatial import ConvexHull
-
-    hull = ConvexHull(points)
-    faces = hull.simplices.copy()
-    a, b, c = (points[faces[:, k]] for k in range(3))
-    inward = np.einsum("ij,ij->i", np.cross(b - a, c - a), hull.equations[:, :3]) < 0
-    faces[inward] = faces[inward][:, ::-1]
-    return faces
+    return qhull_outward(points)
 
 
 @register_algorithm("test-raises-2d", dim=2)

@@ -82,7 +82,9 @@ def _checks() -> list[str]:
         "manifoldness": "closed, consistently outward-oriented genus-0 surface (2D: simple ccw polygon)",
         "qhull_agreement": "extreme vertex set and volume agree with Qhull (scipy), itself certified",
     }
-    return ["checks (all exact):"] + [f"  {c:<16} {text[c]}" for c in CHECKS]
+    return (["checks (all exact):"] + [f"  {c:<16} {text[c]}" for c in CHECKS]
+            + ["  lower-dimensional input (a point, a segment, a flat polygon) is judged against its exact hull "
+               "instead; see README \"Lower-dimensional input\""])
 
 
 def render(what: str | None) -> str:
