@@ -191,7 +191,7 @@ def _preprocess(case: Case, config: AlgorithmConfig) -> tuple[np.ndarray, np.nda
     index_map: np.ndarray | None = None
     finite = _finite(points)
     if config.sphere == "on":
-        from .sphere import sphere_project
+        from .sphere import sphere_project  # scipy: imported when first needed
 
         policy = config.eps if config.eps != NO_EPS else "scaled"
         duplicate_eps = tolerance(points, policy)
@@ -217,13 +217,6 @@ def _preprocess(case: Case, config: AlgorithmConfig) -> tuple[np.ndarray, np.nda
             raise PreprocessError(f"eps set-up: the {config.eps} tolerance is {eps_value!r} for finite input")
         kwargs["eps"] = eps_value
     return points, index_map, kwargs
-
-
-def _map_back(faces: np.ndarray | FaceSet, index_map: np.ndarray) -> np.ndarray | FaceSet:
-    """The output in input rows; face ``k`` (a 2D vertex ``k``) stays at position ``k``."""
-    if isinstance(faces, FaceSet):
-        return FaceSet(index_map[faces.indices], faces.offsets.copy())
-    return index_map[faces]
 
 
 def call_algorithm(case: Case, config: AlgorithmConfig) -> CallOutcome:
@@ -257,7 +250,10 @@ def call_algorithm(case: Case, config: AlgorithmConfig) -> CallOutcome:
         return CallOutcome("contract", error=str(exc), seconds=seconds, eps_value=eps_value, **given)
     if index_map is None:
         return CallOutcome("ok", faces=faces, seconds=seconds, eps_value=eps_value)
-    return CallOutcome("ok", faces=_map_back(faces, index_map), seconds=seconds, eps_value=eps_value,
+    from .sphere import map_back
+
+    # Face k (a 2D vertex k) of the mapped-back output is face k of the canonical output.
+    return CallOutcome("ok", faces=map_back(faces, index_map), seconds=seconds, eps_value=eps_value,
                        given_faces=faces, **given)
 
 
