@@ -9,12 +9,14 @@ the same table in every column but the timing ones.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from pathlib import Path
 
 import pandas as pd
 import pytest
 
 from hullstress import generators
+from hullstress._registry import ALGORITHMS
 from hullstress.plugins import load_plugin
 from hullstress.results import TIMING_COLUMNS
 from hullstress.sweep import SweepOptions, run_sweep
@@ -28,9 +30,12 @@ SPHERE_FAMILIES = ("uniform", "sphere", "minkowski-cubes", "regular-polyhedron",
 
 
 @pytest.fixture(scope="module")
-def default_runs() -> dict[int, pd.DataFrame]:
+def default_runs() -> Iterator[dict[int, pd.DataFrame]]:
     load_plugin(str(PLUGIN))
-    return {w: run_sweep(SweepOptions(algorithms=CONTROLS, workers=w)).table for w in (1, 2)}
+    try:
+        yield {w: run_sweep(SweepOptions(algorithms=CONTROLS, workers=w)).table for w in (1, 2)}
+    finally:
+        ALGORITHMS.remove("exact-rational-2d")
 
 
 def _without_timing(table: pd.DataFrame) -> pd.DataFrame:

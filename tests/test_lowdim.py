@@ -9,7 +9,7 @@ import pytest
 
 from hullstress.case import Case
 from hullstress.checker import check
-from hullstress.checker.lowdim import full_dimensional, judge_lower_dimensional, lower_dimensional_hull
+from hullstress.checker.lowdim import full_dimensional, lower_dimensional_hull
 from hullstress.config import AlgorithmConfig
 from hullstress.errors import ContractViolation
 from hullstress.evaluate import evaluate
@@ -155,17 +155,22 @@ def test_full_rank_certificate_is_exact():
     assert v.affine_rank == 3
 
 
-@register_algorithm("test-endpoints-2d", dim=2)
 def _endpoints(points):
     """A 2D hull that answers a collinear input with its two extreme endpoints (a test algorithm)."""
     order = np.lexsort(points.T[::-1])
     return [int(order[-1]), int(order[0])]
 
 
-def test_the_sweep_passes_a_correct_lower_dimensional_answer():
+@pytest.fixture
+def endpoints_algorithm():
+    register_algorithm("test-endpoints-2d", dim=2)(_endpoints)
+    yield AlgorithmConfig("test-endpoints-2d")
+    ALGORITHMS.remove("test-endpoints-2d")
+
+
+def test_the_sweep_passes_a_correct_lower_dimensional_answer(endpoints_algorithm):
     case = Case(points=_segment_2d(), dim=2, family="collinear-line")
-    row = evaluate(case, AlgorithmConfig("test-endpoints-2d"))
+    row = evaluate(case, endpoints_algorithm)
     assert (row["status"], row["stage"], row["affine_rank"]) == ("pass", "algorithm", 1)
     wrong = Case(points=np.r_[_segment_2d(), [[1.0, 0.0]]], dim=2, family="x")  # not collinear any more
-    assert evaluate(wrong, AlgorithmConfig("test-endpoints-2d"))["status"] == "fail"
-    assert "test-endpoints-2d" in ALGORITHMS
+    assert evaluate(wrong, endpoints_algorithm)["status"] == "fail"

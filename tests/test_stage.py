@@ -15,21 +15,29 @@ from hullstress.records import Stage
 from hullstress.report.tables import failure_counts, status_counts
 from hullstress.results import to_frame
 from hullstress.triage import signature_of
-from hullstress._registry import register_algorithm
+from hullstress._registry import ALGORITHMS, register_algorithm
 
 from _hull_oracle import qhull_outward
 
 
-@register_algorithm("test-qhull-3d-stage", dim=3)
 def _qhull_3d(points):
     """Qhull through scipy, every triangle turned outward (a test algorithm, correct on random clouds)."""
     return qhull_outward(points)
 
 
-@register_algorithm("test-raises-2d", dim=2)
 def _raises(points):
     """Always raises (a test algorithm)."""
     raise ZeroDivisionError("boom")
+
+
+@pytest.fixture(scope="module", autouse=True)
+def test_algorithms():
+    """Registered for this module only: other modules (the corpus replay) run every registered algorithm."""
+    register_algorithm("test-qhull-3d-stage", dim=3)(_qhull_3d)
+    register_algorithm("test-raises-2d", dim=2)(_raises)
+    yield
+    ALGORITHMS.remove("test-qhull-3d-stage")
+    ALGORITHMS.remove("test-raises-2d")
 
 
 def _ball(n: int = 24, seed: int = 0) -> Case:
