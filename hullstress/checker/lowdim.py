@@ -494,26 +494,35 @@ def judge_lower_dimensional(
     lex = _lex_rank(pts)
     plane = pts[:, list(hull.axes)]
     found = _Findings()
-    if isinstance(answer, FaceSet):
-        n_faces = answer.n_faces
-        used = np.unique(rep[answer.indices])
-        if hull.rank >= 2:
-            _judge_flat(answer, hull, rep, plane, lex, found)
-        else:
-            polys = [rep[f] for f in answer.polygons()]
-            two_sided = len(polys) == 2 and _same_cycle(polys[0], polys[1][::-1])
-            if len(polys) > 1 and not two_sided:
-                found.manifoldness.append(
-                    f"{len(polys)} faces; a point or a segment is one face (or one face and its reverse)")
-                found.add("manifold_faces", np.arange(1, len(polys)))
-            _judge_cycle(polys[0] if polys else np.zeros(0, dtype=np.int64), hull, plane, lex, found)
+    if isinstance(answer, FaceSet) and hull.rank >= 2:
+        _judge_flat(answer, hull, rep, plane, lex, found)
+    elif isinstance(answer, FaceSet):
+        _judge_faces_of_a_point_or_segment(answer, hull, rep, plane, lex, found)
     else:
-        n_faces = len(answer) if len(answer) > 1 else 0
-        used = np.unique(rep[answer])
         _judge_cycle(rep[answer], hull, plane, lex, found)
+    used = np.unique(rep[answer.indices if isinstance(answer, FaceSet) else answer])
+    n_faces = answer.n_faces if isinstance(answer, FaceSet) else (len(answer) if len(answer) > 1 else 0)
+    return _verdict(pts, hull, lex, found, used, n_faces, reference, max_offending)
+
+
+def _judge_faces_of_a_point_or_segment(answer: FaceSet, hull: LowerHull, rep: np.ndarray, plane: np.ndarray,
+                                       lex: np.ndarray, found: _Findings) -> None:
+    """One face (or a face and its reverse) whose cycle is the point's or the segment's walk."""
+    polys = [rep[f] for f in answer.polygons()]
+    two_sided = len(polys) == 2 and _same_cycle(polys[0], polys[1][::-1])
+    if len(polys) > 1 and not two_sided:
+        found.manifoldness.append(f"{len(polys)} faces; a point or a segment is one face (or one face and its reverse)")
+        found.add("manifold_faces", np.arange(1, len(polys)))
+    _judge_cycle(polys[0] if polys else np.zeros(0, dtype=np.int64), hull, plane, lex, found)
+
+
+def _verdict(pts: np.ndarray, hull: LowerHull, lex: np.ndarray, found: _Findings, used: np.ndarray, n_faces: int,
+             reference: Any, max_offending: int) -> Verdict:
+    """The findings as a Verdict: counts, the points left outside and how far, the reason."""
     magnitudes: dict[str, float] = {}
     scaled, _ = exact_scale(pts)
     if len(found.missing):
+        plane = pts[:, list(hull.axes)]
         outside = _outside_segment(lex, used) if hull.rank <= 1 else _outside_polygon(plane, used)
         found.n_outside = len(outside)
         found.add("containment", outside)
@@ -526,17 +535,13 @@ def judge_lower_dimensional(
             magnitudes["outside"] = float(np.max(gap))
         else:
             magnitudes["outside"] = float("inf")  # no answer at all: nothing of the hull is there
-    dr = distround(pts)
     rel = relative_magnitudes(magnitudes, distround(scaled))
     sev, worst = severity(rel, failed=not found.ok, topological=bool(found.manifoldness))
     parts = [f"{name}: {'; '.join(msgs)}" for name, msgs in
              (("containment", found.containment), ("convexity", found.convexity), ("manifoldness", found.manifoldness))
              if msgs]
-    detail = hull.describe(pts) + ("; " + "; ".join(parts) if parts else "")
-    if found.ok:
-        detail = "ok: " + detail
-    n_extreme = len(hull.extreme)
-    n_missing = len(found.missing)
+    detail = ("ok: " if found.ok else "") + hull.describe(pts) + ("; " + "; ".join(parts) if parts else "")
+    n_extreme, n_missing = len(hull.extreme), len(found.missing)
     return Verdict(
         convexity=not found.convexity,
         containment=not found.containment,
@@ -544,7 +549,7 @@ def judge_lower_dimensional(
         qhull_agreement=None,
         severity=sev,
         max_violation=float(worst),
-        distround=dr,
+        distround=distround(pts),
         n_faces=int(n_faces),
         n_hull_vertices=len(used),
         n_extreme=n_extreme,
