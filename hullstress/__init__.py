@@ -52,6 +52,7 @@ _LAZY = {
     "ResultRow": "results",
     "to_frame": "results",
     "EpsPolicy": "tolerance",
+    "Stage": "records",
     "tolerance": "tolerance",
     "Verdict": "verdict",
 }
@@ -62,6 +63,7 @@ if TYPE_CHECKING:  # static analysers see the eager imports
     from .config import AlgorithmConfig, expand_configs
     from .contract import FaceSet, normalize_output
     from .evaluate import evaluate
+    from .records import Stage
     from .results import ResultRow, to_frame
     from .tolerance import EpsPolicy, tolerance
     from .verdict import Verdict
@@ -94,6 +96,7 @@ __all__ = [
     "HullstressError",
     "InputFileError",
     "ResultRow",
+    "Stage",
     "UnknownNameError",
     "UsageError",
     "Verdict",

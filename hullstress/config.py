@@ -1,4 +1,14 @@
-"""Algorithm configurations: a registered algorithm plus its sphere and eps variant."""
+"""Algorithm configurations: a registered algorithm plus its sphere and eps variant.
+
+Which variants run when ``--sphere`` / ``--eps`` are not given depends on
+where the algorithm comes from (:func:`default_variants`): the in-house
+algorithms implement the seed documents, whose claims the sphere and eps
+variants test, so both run; a plug-in, adapter or executable is someone's
+finished hull code, so by default it sees the input points as they are and
+keeps its own tolerance (no ``eps`` is passed).  A ``--sphere`` or ``--eps``
+given explicitly applies to every algorithm (``--sphere both`` opts a
+library in).
+"""
 
 from __future__ import annotations
 
@@ -7,13 +17,58 @@ from dataclasses import dataclass
 
 from ._registry import AlgorithmSpec, get_algorithm
 from .errors import UsageError
+from .records import Origin
 
-__all__ = ["AlgorithmConfig", "expand_configs", "SPHERE_CHOICES", "EPS_CHOICES", "NO_EPS"]
+__all__ = [
+    "AlgorithmConfig",
+    "VariantDefaults",
+    "SEED_VARIANTS",
+    "LIBRARY_VARIANTS",
+    "default_variants",
+    "single_config",
+    "expand_configs",
+    "SPHERE_CHOICES",
+    "EPS_CHOICES",
+    "NO_EPS",
+]
 
 SPHERE_CHOICES = ("off", "on", "both")
 EPS_CHOICES = ("scaled", "fixed", "both")
-#: The eps column's value for algorithms that take no ``eps`` keyword.
+#: The eps column's value when no ``eps`` is passed: the algorithm takes none,
+#: or keeps its own tolerance (a library's default).
 NO_EPS = "n/a"
+
+
+@dataclass(frozen=True)
+class VariantDefaults:
+    """The variants an algorithm runs in when ``--sphere`` / ``--eps`` are not given.
+
+    Attributes
+    ----------
+    sphere : tuple of {"off", "on"}
+    eps : tuple of {"scaled", "fixed"}
+        Empty: no ``eps`` is passed, the algorithm keeps its own tolerance.
+    """
+
+    sphere: tuple[str, ...]
+    eps: tuple[str, ...]
+
+
+#: In-house algorithms: every variant the seeds' claims are about.
+SEED_VARIANTS = VariantDefaults(sphere=("off", "on"), eps=("scaled", "fixed"))
+#: Plug-ins, adapters and executables: the input as it is, the library's own tolerance.
+LIBRARY_VARIANTS = VariantDefaults(sphere=("off",), eps=())
+
+
+def default_variants(origin: str) -> VariantDefaults:
+    """The default variants for an algorithm of this origin.
+
+    Examples
+    --------
+    >>> default_variants("in-house").sphere, default_variants("plugin").eps
+    (('off', 'on'), ())
+    """
+    return SEED_VARIANTS if origin == Origin.IN_HOUSE else LIBRARY_VARIANTS
 
 
 @dataclass(frozen=True, order=True)
@@ -27,7 +82,8 @@ class AlgorithmConfig:
     sphere : {"off", "on"}
         Whether Kenwright's support mapping and sphere projection run first.
     eps : {"scaled", "fixed", "n/a"}
-        The tolerance policy passed as ``eps``; ``n/a`` when the algorithm takes none.
+        The tolerance policy passed as ``eps``; ``n/a`` when none is passed
+        (the algorithm takes none, or keeps its own).
     """
 
     algorithm: str
@@ -63,28 +119,48 @@ def _choices(value: str, allowed: Sequence[str], option: str) -> tuple[str, ...]
     return (value,)
 
 
+def single_config(spec: AlgorithmSpec, sphere: str = "off", eps: str | None = None) -> AlgorithmConfig:
+    """One config of ``spec`` (for shrink and fuzz): ``eps=None`` means its origin's first default.
+
+    Examples
+    --------
+    >>> from hullstress import get_algorithm
+    >>> single_config(get_algorithm("monotone-chain")).label
+    'monotone-chain[sphere=off,eps=scaled]'
+    """
+    if not spec.takes_eps:
+        return AlgorithmConfig(spec.name, sphere, NO_EPS)
+    if eps is None:
+        eps = next(iter(default_variants(spec.origin).eps), NO_EPS)
+    return AlgorithmConfig(spec.name, sphere, eps)
+
+
 def expand_configs(
-    specs: Iterable[AlgorithmSpec], *, sphere: str = "both", eps: str = "both"
+    specs: Iterable[AlgorithmSpec], *, sphere: str | None = None, eps: str | None = None
 ) -> list[AlgorithmConfig]:
     """Cross algorithms with the requested variants.
 
     Parameters
     ----------
     specs : iterable of AlgorithmSpec
-    sphere : {"off", "on", "both"}
-    eps : {"scaled", "fixed", "both"}
-        Applies only to algorithms that accept ``eps``; the others get ``n/a``.
+    sphere : {"off", "on", "both"} or None
+        None: each algorithm's default (:func:`default_variants`); given, it
+        applies to every algorithm.
+    eps : {"scaled", "fixed", "both"} or None
+        The same; applies only to algorithms that accept ``eps``, the others get ``n/a``.
 
     Returns
     -------
     list of AlgorithmConfig
         Sorted, without duplicates.
     """
-    spheres = _choices(sphere, SPHERE_CHOICES, "--sphere")
-    epses = _choices(eps, EPS_CHOICES, "--eps")
+    spheres = _choices(sphere, SPHERE_CHOICES, "--sphere") if sphere is not None else None
+    epses = _choices(eps, EPS_CHOICES, "--eps") if eps is not None else None
     out = set()
     for spec in specs:
-        for s in spheres:
-            for e in (epses if spec.takes_eps else (NO_EPS,)):
+        defaults = default_variants(spec.origin)
+        spec_eps = (epses if epses is not None else defaults.eps) if spec.takes_eps else ()
+        for s in spheres if spheres is not None else defaults.sphere:
+            for e in spec_eps or (NO_EPS,):
                 out.add(AlgorithmConfig(spec.name, s, e))
     return sorted(out)

@@ -4,6 +4,17 @@ An algorithm's return value is untrusted.  :func:`normalize_output` either
 turns it into a :class:`FaceSet` (3D) or a 1-D index array (2D), or raises
 :class:`~hullstress.errors.ContractViolation` with a one-line reason that
 names the offending value.  A violation makes the call's status ``fail``.
+
+A face needs at least three vertices, except in the lower-dimensional answers
+of the README ("Lower-dimensional input"): a 3D input of affine rank 0 or 1
+(one point, a segment) may be answered with a face of one or two vertices.
+Whoever normalises before the rank is known passes ``min_face_size=1`` and
+applies :func:`require_face_size` once it is.
+
+:func:`canonical_output` puts a normalised output in one canonical order
+(each face, and a 2D polygon, rotated to start at its lexicographically least
+rotation, i.e. at its smallest index; faces sorted), so that a results table
+never depends on the order in which a library emits its faces.
 """
 
 from __future__ import annotations
@@ -16,7 +27,18 @@ import numpy as np
 
 from .errors import ContractViolation
 
-__all__ = ["FaceSet", "normalize_output", "normalize_polygon", "normalize_faces"]
+__all__ = [
+    "FaceSet",
+    "normalize_output",
+    "normalize_polygon",
+    "normalize_faces",
+    "require_face_size",
+    "canonical_output",
+    "least_rotation",
+]
+
+#: The fewest vertices of a face of a closed surface (a full-dimensional 3D hull).
+MIN_FACE_SIZE = 3
 
 
 @dataclass(frozen=True, eq=False)
@@ -178,8 +200,18 @@ def normalize_polygon(output: Any, n_points: int) -> np.ndarray:
     return arr.copy()
 
 
-def normalize_faces(output: Any, n_points: int) -> FaceSet:
+def normalize_faces(output: Any, n_points: int, *, min_face_size: int = MIN_FACE_SIZE) -> FaceSet:
     """Validate a 3D result: an (m, 3) integer array or a list of polygons.
+
+    Parameters
+    ----------
+    output : object
+        What the algorithm returned.
+    n_points : int
+        Number of input points (indices must be below it).
+    min_face_size : int
+        Fewest vertices a face may have: 3 (a closed surface), or 1 while
+        the input's affine rank is not known yet (see :func:`require_face_size`).
 
     Returns
     -------
@@ -189,7 +221,7 @@ def normalize_faces(output: Any, n_points: int) -> FaceSet:
     ------
     ContractViolation
         On ``None``, wrong shapes, non-integer entries, faces with fewer than
-        three vertices, or indices outside ``[0, n_points)``.
+        ``min_face_size`` vertices, or indices outside ``[0, n_points)``.
     """
     if output is None:
         raise ContractViolation("the algorithm returned None instead of faces")
@@ -214,15 +246,155 @@ def normalize_faces(output: Any, n_points: int) -> FaceSet:
         if poly is None or isinstance(poly, (str, bytes)) or np.ndim(poly) != 1:
             raise ContractViolation(f"face {i} must be a sequence of vertex indices, got {_describe(poly)}")
         arr = _as_index_array(poly, f"face {i}")
-        if len(arr) < 3:
-            raise ContractViolation(f"face {i} has {len(arr)} vertices; a face needs at least 3")
+        if len(arr) < min_face_size:
+            raise ContractViolation(_too_small(i, len(arr)))
         _check_range(arr, n_points, f"face {i}")
         checked.append(arr)
     return FaceSet.from_polygons(checked)
 
 
-def normalize_output(output: Any, n_points: int, dim: int) -> np.ndarray | FaceSet:
-    """Validate raw algorithm output for a ``dim``-dimensional case of ``n_points`` points."""
+def normalize_output(output: Any, n_points: int, dim: int, *, min_face_size: int = MIN_FACE_SIZE) -> np.ndarray | FaceSet:
+    """Validate raw algorithm output for a ``dim``-dimensional case of ``n_points`` points.
+
+    ``min_face_size`` applies to 3D faces (see :func:`normalize_faces`).
+    """
     if dim == 2:
         return normalize_polygon(output, n_points)
-    return normalize_faces(output, n_points)
+    return normalize_faces(output, n_points, min_face_size=min_face_size)
+
+
+def _too_small(i: int, size: int) -> str:
+    return (f"face {i} has {size} vertices; a face needs at least {MIN_FACE_SIZE} "
+            "(fewer only in the answer for a collinear or one-point input)")
+
+
+def require_face_size(faces: FaceSet, minimum: int = MIN_FACE_SIZE) -> None:
+    """Raise ContractViolation naming the first face with fewer than ``minimum`` vertices.
+
+    Examples
+    --------
+    >>> require_face_size(FaceSet.from_polygons([[0, 1, 2], [0, 1]]))
+    Traceback (most recent call last):
+    ...
+    hullstress.errors.ContractViolation: face 1 has 2 vertices; a face needs at least 3 (fewer only in the answer for a collinear or one-point input)
+    """
+    small = np.flatnonzero(faces.sizes < minimum)
+    if len(small):
+        i = int(small[0])
+        raise ContractViolation(_too_small(i, int(faces.sizes[i])))
+
+
+def least_rotation(seq: Sequence[int]) -> int:
+    """The start of the lexicographically least rotation of ``seq`` (Booth's algorithm, O(k)).
+
+    Examples
+    --------
+    >>> least_rotation([3, 1, 2]), least_rotation([0, 5, 0, 2]), least_rotation([])
+    (1, 2, 0)
+    """
+    s = list(seq)
+    n = len(s)
+    if n < 2:
+        return 0
+    fail = [-1] * (2 * n)
+    k = 0
+    for j in range(1, 2 * n):
+        c = s[j % n]
+        i = fail[j - k - 1]
+        while i != -1 and c != s[(k + i + 1) % n]:
+            if c < s[(k + i + 1) % n]:
+                k = j - i - 1
+            i = fail[i]
+        if i == -1 and c != s[(k + i + 1) % n]:
+            if c < s[(k + i + 1) % n]:
+                k = j
+            fail[j - k] = -1
+        else:
+            fail[j - k] = i + 1
+    return k % n
+
+
+def _rotate_faces(faces: FaceSet) -> np.ndarray:
+    """Every face rotated to its least rotation; the concatenated indices."""
+    idx, offsets, sizes = faces.indices, faces.offsets, faces.sizes
+    m = faces.n_faces
+    if m == 0 or not idx.size:
+        return idx.copy()
+    starts = offsets[:-1]
+    face_of = np.repeat(np.arange(m, dtype=np.int64), sizes)
+    mins = np.minimum.reduceat(idx, starts)
+    is_min = idx == mins[face_of]
+    n_min = np.add.reduceat(is_min.astype(np.int64), starts)
+    # The first position of each face's minimum (every face holds its minimum once at least).
+    hit = np.flatnonzero(is_min)
+    _, first = np.unique(face_of[hit], return_index=True)
+    shift = hit[first] - starts
+    # A face holding its minimum twice (a repeated vertex) needs Booth's algorithm.
+    for f in np.flatnonzero(n_min > 1).tolist():
+        shift[f] = least_rotation(idx[offsets[f] : offsets[f + 1]].tolist())
+    local = np.arange(idx.size, dtype=np.int64) - starts[face_of]
+    out = np.empty_like(idx)
+    out[starts[face_of] + (local - shift[face_of]) % sizes[face_of]] = idx
+    return out
+
+
+def _face_order(rotated: np.ndarray, faces: FaceSet) -> np.ndarray:
+    """The order that sorts the rotated faces lexicographically (a shorter prefix first)."""
+    sizes = faces.sizes
+    m = faces.n_faces
+    if m < 2:
+        return np.arange(m, dtype=np.int64)
+    if np.all(sizes == sizes[0]):
+        table = rotated.reshape(m, int(sizes[0]))
+        return np.lexsort(table.T[::-1]).astype(np.int64)
+    offsets = faces.offsets.tolist()
+    values = rotated.tolist()
+    return np.array(sorted(range(m), key=lambda f: values[offsets[f] : offsets[f + 1]]), dtype=np.int64)
+
+
+def canonical_output(output: np.ndarray | FaceSet) -> np.ndarray | FaceSet:
+    """A normalised output in canonical order; the same hull whatever order it was emitted in.
+
+    A 2D polygon is rotated to its least rotation (it starts at its smallest
+    index; its direction is kept).  In 3D every face is rotated the same way
+    and the faces are sorted lexicographically.  Orientation is never changed,
+    so the canonical output passes or fails every check exactly as the
+    original does.
+
+    Parameters
+    ----------
+    output : ndarray of shape (k,), int64, or FaceSet
+        From :func:`normalize_output`.
+
+    Returns
+    -------
+    ndarray or FaceSet
+        A new object of the same kind.
+
+    Examples
+    --------
+    >>> canonical_output(np.array([4, 2, 7])).tolist()
+    [2, 7, 4]
+    >>> canonical_output(FaceSet.from_triangles([[3, 1, 2], [2, 0, 1]])).to_python()
+    [[0, 1, 2], [1, 2, 3]]
+    """
+    if not isinstance(output, FaceSet):
+        poly = np.asarray(output, dtype=np.int64)
+        if len(poly) < 2:
+            return poly.copy()
+        start = int(np.argmin(poly))
+        if np.count_nonzero(poly == poly[start]) > 1:
+            start = least_rotation(poly.tolist())
+        return np.roll(poly, -start)
+    rotated = _rotate_faces(output)
+    order = _face_order(rotated, output)
+    sizes = output.sizes[order]
+    offsets = np.zeros(len(order) + 1, dtype=np.int64)
+    np.cumsum(sizes, out=offsets[1:])
+    starts = output.offsets[:-1][order]
+    if len(order):
+        take = np.repeat(starts - offsets[:-1], sizes) + np.arange(int(offsets[-1]), dtype=np.int64)
+        indices = rotated[take]
+    else:
+        indices = rotated[:0]
+    return FaceSet(indices, offsets)

@@ -6,31 +6,58 @@ part:
 
 * :func:`case_facts` — computed once per case: input validity, exact affine
   rank, Qhull's reference hull.  Trusted code.
-* :func:`call_algorithm` — preprocessing (sphere variant, eps policy), the
+* :func:`call_algorithm` — preprocessing (sphere variant, eps set-up), the
   algorithm call itself, and the output contract.  Untrusted: this is what a
   runner puts behind a timeout in a separate process.
 * :func:`judge` — status rules of DESIGN.md and the exact checker.  Trusted.
 
 :func:`evaluate` chains the three in-process, for tests, shrinking and replay.
+
+Every row names the stage that produced its verdict
+(:class:`~hullstress.records.Stage`):
+
+* ``preprocess`` — the sphere method or the eps set-up.  An exception there
+  (or a non-finite projection or tolerance for a finite input) is an
+  ``error`` (``rejected`` on invalid or degenerate input); with sphere on, a
+  correct hull of the projected points that, mapped back, is not the hull of
+  the input is a ``fail``.  Either way a finding about the method, never the
+  algorithm's.
+* ``algorithm`` — the algorithm, judged on the points it was given: with
+  sphere on, its hull of the projected points is checked against the
+  projected points.
+* ``check`` — the checker broke (an internal error of hullstress).
 """
 
 from __future__ import annotations
 
 import time
 import warnings
-from dataclasses import dataclass
+from collections import OrderedDict
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
 
-from .case import Case
+from .case import Case, points_digest
 from .config import NO_EPS, AlgorithmConfig
-from .contract import FaceSet, normalize_output
+from .contract import FaceSet, canonical_output, normalize_output, require_face_size
 from .errors import ContractViolation, one_line
+from .records import CONTRACT_REASON, METHOD_REASON, Stage
 from .results import ResultRow, make_row
 from .tolerance import tolerance
+from .verdict import Verdict
 
-__all__ = ["CaseFacts", "CallOutcome", "case_facts", "call_algorithm", "judge", "evaluate", "input_problem"]
+__all__ = [
+    "CaseFacts",
+    "CallOutcome",
+    "case_facts",
+    "points_facts",
+    "call_algorithm",
+    "judge",
+    "evaluate",
+    "input_problem",
+    "PreprocessError",
+]
 
 
 @dataclass(frozen=True)
@@ -56,22 +83,37 @@ class CaseFacts:
     reference: Any = None
 
 
+class PreprocessError(Exception):
+    """The variant's preprocessing (sphere method, eps set-up) gave no usable input for the algorithm."""
+
+
 @dataclass(frozen=True)
 class CallOutcome:
     """What the untrusted part produced.
 
     Attributes
     ----------
-    kind : {"ok", "raised", "contract"}
-        Returned a valid output, raised, or returned output breaking the contract.
+    kind : {"ok", "raised", "contract", "preprocess"}
+        Returned a valid output, raised, returned output breaking the
+        contract, or never ran because preprocessing failed.
     faces : ndarray or FaceSet or None
-        The normalised output in the case's original indices (``kind == "ok"``).
+        The output in the case's own rows (``kind == "ok"``): canonical
+        (:func:`~hullstress.contract.canonical_output`), and with sphere on
+        the canonical output mapped back (face ``k`` is the algorithm's
+        canonical face ``k``).
     error : str
         ``TypeName: message`` or the contract violation, on one line.
     seconds : float
         Wall time of preprocessing plus the algorithm call.
     eps_value : float or None
         The tolerance passed as ``eps``.
+    given : ndarray or None
+        The points the algorithm was given when they are not the case's
+        (sphere on): the projected points.
+    given_faces : ndarray or FaceSet or None
+        The canonical output in the indices of ``given``.
+    index_map : ndarray or None
+        Row ``i`` of ``given`` is input row ``index_map[i]``.
     """
 
     kind: str
@@ -79,6 +121,9 @@ class CallOutcome:
     error: str = ""
     seconds: float = 0.0
     eps_value: float | None = None
+    given: np.ndarray | None = None
+    given_faces: np.ndarray | FaceSet | None = None
+    index_map: np.ndarray | None = None
 
 
 def input_problem(points: np.ndarray, dim: int) -> str | None:
@@ -95,108 +140,247 @@ def input_problem(points: np.ndarray, dim: int) -> str | None:
     return None
 
 
-def case_facts(case: Case, *, qhull: bool = True) -> CaseFacts:
-    """Compute a case's validity, exact affine rank and (optionally) Qhull reference."""
+def points_facts(points: np.ndarray, dim: int, *, qhull: bool = True) -> CaseFacts:
+    """Validity, exact affine rank and (optionally) Qhull reference of a point array."""
     from .checker import affine_rank, qhull_reference
 
-    problem = input_problem(case.points, case.dim)
+    problem = input_problem(points, dim)
     if problem is not None:
         return CaseFacts(invalid_input=problem, affine_rank=None, degenerate=True, reference=None)
-    rank = int(affine_rank(case.points))
-    reference = qhull_reference(case.points) if qhull else None
-    return CaseFacts(invalid_input=None, affine_rank=rank, degenerate=rank < case.dim, reference=reference)
+    reference = qhull_reference(points) if qhull else None
+    known = reference.affine_rank if reference is not None else None
+    rank = int(known) if known is not None else int(affine_rank(points))
+    return CaseFacts(invalid_input=None, affine_rank=rank, degenerate=rank < dim, reference=reference)
+
+
+def case_facts(case: Case, *, qhull: bool = True) -> CaseFacts:
+    """Compute a case's validity, exact affine rank and (optionally) Qhull reference."""
+    return points_facts(case.points, case.dim, qhull=qhull)
+
+
+# The projected points of one case are the same for every algorithm with the
+# same duplicate tolerance: their facts (a Qhull reference) are computed once.
+_GIVEN_FACTS: OrderedDict[tuple[str, int, bool], CaseFacts] = OrderedDict()
+_GIVEN_FACTS_SIZE = 8
+
+
+def _given_facts(points: np.ndarray, dim: int, qhull: bool) -> CaseFacts:
+    key = (points_digest(points), dim, qhull)
+    facts = _GIVEN_FACTS.get(key)
+    if facts is None:
+        facts = points_facts(points, dim, qhull=qhull)
+        _GIVEN_FACTS[key] = facts
+        while len(_GIVEN_FACTS) > _GIVEN_FACTS_SIZE:
+            _GIVEN_FACTS.popitem(last=False)
+    return facts
+
+
+def _finite(points: np.ndarray) -> bool:
+    return points.ndim == 2 and bool(np.isfinite(points).all())
+
+
+def _preprocess(case: Case, config: AlgorithmConfig) -> tuple[np.ndarray, np.ndarray | None, dict[str, Any]]:
+    """The variant's preprocessing: the points the algorithm gets, the index map, its keywords.
+
+    Raises
+    ------
+    PreprocessError
+        Naming the step (sphere projection, eps set-up) and what went wrong.
+    """
+    points = case.points
+    index_map: np.ndarray | None = None
+    finite = _finite(points)
+    if config.sphere == "on":
+        from .sphere import sphere_project  # scipy: imported when first needed
+
+        policy = config.eps if config.eps != NO_EPS else "scaled"
+        duplicate_eps = tolerance(points, policy)
+        if finite and not np.isfinite(duplicate_eps):
+            raise PreprocessError(f"eps set-up: the {policy} tolerance is {duplicate_eps!r} for finite input")
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                projected, index_map = sphere_project(points, eps=duplicate_eps)
+        except Exception as exc:  # the method's own exceptions (bad shape, NaN, an unprojectable point)
+            raise PreprocessError(f"sphere projection: {one_line(exc)}") from None
+        if not np.isfinite(projected).all():
+            raise PreprocessError("sphere projection: the projected points are not finite "
+                                  "(the method's float arithmetic overflowed)")
+        points = np.ascontiguousarray(projected, dtype=np.float64)
+        points.setflags(write=False)
+        index_map = np.asarray(index_map, dtype=np.int64)
+    kwargs: dict[str, Any] = {}
+    if config.eps != NO_EPS:
+        eps_value = tolerance(points, config.eps)
+        # Non-finite input gives a non-finite eps by the seed's formula; that is passed on.
+        if _finite(points) and not np.isfinite(eps_value):
+            raise PreprocessError(f"eps set-up: the {config.eps} tolerance is {eps_value!r} for finite input")
+        kwargs["eps"] = eps_value
+    return points, index_map, kwargs
 
 
 def call_algorithm(case: Case, config: AlgorithmConfig) -> CallOutcome:
-    """Run ``config`` on ``case``: sphere preprocessing, eps policy, the call, the output contract.
+    """Run ``config`` on ``case``: preprocessing, the call, the output contract, canonical order.
 
     Never raises for anything the algorithm does; the outcome records it.
     """
     spec = config.spec
     start = time.perf_counter()
-    eps_value: float | None = None
     try:
-        points = case.points
-        index_map: np.ndarray | None = None
-        if config.sphere == "on":
-            from .sphere import sphere_project
-
-            policy = config.eps if config.eps != NO_EPS else "scaled"
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                points, index_map = sphere_project(points, eps=tolerance(points, policy))
-            points = np.ascontiguousarray(points, dtype=np.float64)
-            points.setflags(write=False)
-        kwargs: dict[str, Any] = {}
-        if config.eps != NO_EPS:
-            eps_value = tolerance(points, config.eps)
-            kwargs["eps"] = eps_value
+        points, index_map, kwargs = _preprocess(case, config)
+    except PreprocessError as exc:
+        return CallOutcome("preprocess", error=str(exc), seconds=time.perf_counter() - start)
+    eps_value = kwargs.get("eps")
+    # What the algorithm was given, when not the case's points: judged against those.
+    given = {} if index_map is None else {"given": points, "index_map": index_map}
+    try:
         with warnings.catch_warnings():
             # The code under test's own warnings (overflow in its cross products,
             # say) are not the harness's output; what it returns is judged instead.
             warnings.simplefilter("ignore")
             raw = spec.func(points, **kwargs)
     except (Exception, RecursionError) as exc:  # the code under test may raise anything
-        return CallOutcome("raised", error=one_line(exc), seconds=time.perf_counter() - start, eps_value=eps_value)
+        return CallOutcome("raised", error=one_line(exc), seconds=time.perf_counter() - start, eps_value=eps_value,
+                           **given)
     seconds = time.perf_counter() - start
     try:
-        faces = normalize_output(raw, len(points), case.dim)
+        # Faces of one or two vertices are judged once the rank is known (see judge).
+        faces = canonical_output(normalize_output(raw, len(points), case.dim, min_face_size=1))
     except ContractViolation as exc:
-        return CallOutcome("contract", error=str(exc), seconds=seconds, eps_value=eps_value)
-    if index_map is not None:
-        index_map = np.asarray(index_map, dtype=np.int64)
-        if isinstance(faces, FaceSet):
-            faces = FaceSet(index_map[faces.indices], faces.offsets)
-        else:
-            faces = index_map[faces]
-    return CallOutcome("ok", faces=faces, seconds=seconds, eps_value=eps_value)
+        return CallOutcome("contract", error=str(exc), seconds=seconds, eps_value=eps_value, **given)
+    if index_map is None:
+        return CallOutcome("ok", faces=faces, seconds=seconds, eps_value=eps_value)
+    from .sphere import map_back
+
+    # Face k (a 2D vertex k) of the mapped-back output is face k of the canonical output.
+    return CallOutcome("ok", faces=map_back(faces, index_map), seconds=seconds, eps_value=eps_value,
+                       given_faces=faces, **given)
 
 
 def _is_empty(faces: np.ndarray | FaceSet) -> bool:
     return faces.n_faces == 0 if isinstance(faces, FaceSet) else len(faces) == 0
 
 
+class _Judged(Exception):
+    """A judgement ended early in a row (contract violation, checker error)."""
+
+    def __init__(self, status: str, stage: Stage, reason: str, check_seconds: float = 0.0) -> None:
+        super().__init__(reason)
+        self.status, self.stage, self.reason, self.check_seconds = status, stage, reason, check_seconds
+
+
+def _verdict(points: np.ndarray, faces: np.ndarray | FaceSet, facts: CaseFacts) -> Verdict:
+    """The exact verdict on ``faces`` as a hull of ``points`` (lower-dimensional or full).
+
+    Raises
+    ------
+    ContractViolation
+        A face of fewer than three vertices where the input's rank asks for a surface.
+    Exception
+        Anything else is a checker bug.
+    """
+    from .checker import check
+    from .checker.lowdim import judge_lower_dimensional
+
+    reference = facts.reference
+    if facts.degenerate:
+        simplex = getattr(reference, "simplex", None)
+        return judge_lower_dimensional(points, faces, simplex=simplex, reference=reference)
+    if isinstance(faces, FaceSet):
+        require_face_size(faces)
+    return check(points, faces, reference=reference, qhull=reference is not None)
+
+
+def _judged_verdict(points: np.ndarray, faces: np.ndarray | FaceSet, facts: CaseFacts, stage: Stage) -> Verdict:
+    """:func:`_verdict`, turning its exceptions into a :class:`_Judged` row."""
+    start = time.perf_counter()
+    try:
+        return _verdict(points, faces, facts)
+    except ContractViolation as exc:
+        raise _Judged("fail", stage, f"{CONTRACT_REASON} {exc}") from None
+    except Exception as exc:  # a checker bug must not lose the row, nor blame the algorithm silently
+        raise _Judged("error", Stage.CHECK, f"internal: checker raised {one_line(exc)}",
+                      time.perf_counter() - start) from None
+
+
+def _in_input_rows(verdict: Verdict, index_map: np.ndarray) -> Verdict:
+    """A verdict on the projected points with its point indices turned into input rows.
+
+    Face and edge indices stay: face ``k`` of the mapped-back output is face ``k``.
+    """
+    offending = {key: tuple(int(i) for i in (idx if ("face" in key or "edge" in key) else index_map[list(idx)]))
+                 for key, idx in verdict.offending.items()}
+    return replace(verdict, offending=offending)
+
+
+def _method_problem(case: Case, facts: CaseFacts, given: CaseFacts) -> str:
+    """Why the projection cannot give the input's hull whatever the algorithm does ("" if it can)."""
+    if given.invalid_input and not facts.invalid_input:
+        return f"the projection left {given.invalid_input} from a valid input"
+    if given.affine_rank is not None and facts.affine_rank is not None and given.affine_rank < facts.affine_rank:
+        return (f"the projection left a set of affine rank {given.affine_rank} from an input of rank "
+                f"{facts.affine_rank}: its hull cannot map back to the input's hull")
+    return ""
+
+
 def judge(case: Case, config: AlgorithmConfig, outcome: CallOutcome, facts: CaseFacts) -> ResultRow:
-    """Turn a call's outcome into a table row, applying DESIGN.md's status rules."""
-    common = dict(
-        seconds=outcome.seconds,
-        eps_value=outcome.eps_value,
-        degenerate=facts.degenerate,
-        invalid_input=facts.invalid_input,
-    )
+    """Turn a call's outcome into a table row, applying DESIGN.md's status rules per stage."""
+    common = dict(seconds=outcome.seconds, eps_value=outcome.eps_value,
+                  degenerate=facts.degenerate, invalid_input=facts.invalid_input)
+    sphere = config.sphere == "on"
+    if outcome.kind == "preprocess":
+        status = "rejected" if (facts.invalid_input or facts.degenerate) else "error"
+        return make_row(case, config, status=status, stage=Stage.PREPROCESS, reason=f"preprocess: {outcome.error}",
+                        sphere_method=status if sphere else "", **common)
+    start = time.perf_counter()
+    given = _given_facts(outcome.given, case.dim, facts.reference is not None) if outcome.given is not None else facts
+    problem = _method_problem(case, facts, given) if sphere else ""
+
+    def row(status: str, reason: str = "", verdict: Verdict | None = None, **kw: Any) -> ResultRow:
+        return make_row(case, config, status=status, reason=reason, verdict=verdict,
+                        check_seconds=time.perf_counter() - start, **kw, **common)
+
+    def method_failed(reason: str, verdict: Verdict | None = None) -> ResultRow:
+        return row("fail", f"{METHOD_REASON} {reason}", verdict, stage=Stage.PREPROCESS, sphere_method="fail")
+
     if outcome.kind == "raised":
         # Any exception on an invalid or affinely degenerate input is acceptable
         # behaviour, except running out of memory or stack: that is no rejection.
         resource = outcome.error.startswith(("MemoryError", "RecursionError"))
-        status = "rejected" if (facts.invalid_input or facts.degenerate) and not resource else "error"
-        return make_row(case, config, status=status, reason=outcome.error, **common)
+        declined = bool(given.invalid_input or given.degenerate) and not resource
+        if declined and problem:
+            return method_failed(f"{problem} (the algorithm then raised {outcome.error})")
+        return row("rejected" if declined else "error", outcome.error)
     if outcome.kind == "contract":
-        return make_row(case, config, status="fail", reason=f"output contract: {outcome.error}", **common)
+        return row("fail", f"{CONTRACT_REASON} {outcome.error}")
     assert outcome.faces is not None
-    if facts.invalid_input:
-        if facts.invalid_input == "no points" and _is_empty(outcome.faces):
-            return make_row(case, config, status="pass", reason="empty input, empty hull", **common)
-        return make_row(
-            case, config, status="fail",
-            reason=f"returned a hull for invalid input ({facts.invalid_input}) instead of rejecting it",
-            **common,
-        )
-    from .checker import check
-
-    start = time.perf_counter()
+    if given.invalid_input:
+        if problem:
+            return method_failed(problem)
+        # No hull is defined: a clear rejection or any well-formed output is acceptable (README).
+        if given.invalid_input == "no points":
+            return row("pass", "empty input, empty hull" if _is_empty(outcome.faces) else "empty input")
+        return row("pass", f"no hull is defined for invalid input ({given.invalid_input}): "
+                           "well-formed output accepted, not checked")
+    given_points = outcome.given if outcome.given is not None else case.points
+    given_faces = outcome.given_faces if outcome.given is not None else outcome.faces
     try:
-        verdict = check(case.points, outcome.faces, reference=facts.reference, qhull=facts.reference is not None)
-    except Exception as exc:  # a checker bug must not lose the row, nor blame the algorithm silently
-        return make_row(
-            case, config, status="error", reason=f"internal: checker raised {one_line(exc)}",
-            check_seconds=time.perf_counter() - start, **common,
-        )
-    check_seconds = time.perf_counter() - start
-    status = "pass" if verdict.ok else "fail"
-    return make_row(
-        case, config, status=status, reason=verdict.detail if not verdict.ok else "",
-        check_seconds=check_seconds, verdict=verdict, **common,
-    )
+        verdict = _judged_verdict(given_points, given_faces, given, Stage.ALGORITHM)
+        if outcome.index_map is not None:
+            verdict = _in_input_rows(verdict, outcome.index_map)
+        if not sphere or not verdict.ok:
+            return row("pass" if verdict.ok else "fail", "" if verdict.ok else verdict.detail, verdict)
+        # The algorithm's hull of the projected points is right: now judge the sphere method.
+        if problem:
+            return method_failed(problem)
+        method = _judged_verdict(case.points, outcome.faces, facts, Stage.PREPROCESS)
+    except _Judged as judged:
+        return row(judged.status, judged.reason, stage=judged.stage,
+                   sphere_method="fail" if judged.stage is Stage.PREPROCESS else "")
+    if method.ok:
+        return row("pass", "", verdict, sphere_method="pass")
+    return method_failed(f"mapped back, the algorithm's correct hull of the {len(given_points)} projected points "
+                         f"is not the input's hull: {method.detail}", method)
 
 
 def evaluate(case: Case, config: AlgorithmConfig, *, facts: CaseFacts | None = None, qhull: bool = True) -> ResultRow:

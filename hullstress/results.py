@@ -10,6 +10,7 @@ import pandas as pd
 
 from .case import Case
 from .config import AlgorithmConfig
+from .records import Stage
 from .verdict import VERDICT_COLUMNS, Verdict, empty_verdict_row
 
 __all__ = [
@@ -26,7 +27,8 @@ STATUSES = ("pass", "fail", "rejected", "error", "timeout", "crash")
 
 _PROVENANCE = ("case_id", "generator", "params", "transform", "dim", "n_points", "size", "seed", "source")
 _CONFIG = ("algorithm", "origin", "sphere", "eps", "config")
-_OUTCOME = ("status", "reason", "seconds", "check_seconds", "eps_value", "degenerate", "invalid_input")
+_OUTCOME = ("status", "stage", "sphere_method", "reason", "seconds", "check_seconds", "eps_value", "degenerate",
+            "invalid_input")
 
 #: Column order of every results table.
 ROW_COLUMNS = _PROVENANCE + _CONFIG + _OUTCOME + VERDICT_COLUMNS
@@ -56,6 +58,11 @@ class ResultRow:
         return self.values["status"]
 
     @property
+    def stage(self) -> str:
+        """The stage that produced the verdict (:class:`~hullstress.records.Stage` value)."""
+        return self.values.get("stage", Stage.ALGORITHM.value)
+
+    @property
     def failed(self) -> bool:
         """True for outcomes that count as failures: fail, error, timeout, crash."""
         return self.values["status"] in ("fail", "error", "timeout", "crash")
@@ -66,6 +73,8 @@ def make_row(
     config: AlgorithmConfig,
     *,
     status: str,
+    stage: Stage | str = Stage.ALGORITHM,
+    sphere_method: str = "",
     reason: str = "",
     seconds: float = 0.0,
     check_seconds: float = 0.0,
@@ -83,6 +92,14 @@ def make_row(
         What ran.
     status : str
         One of :data:`STATUSES`.
+    stage : Stage
+        The stage that produced the verdict (``algorithm`` unless preprocessing
+        or the checker did).
+    sphere_method : str
+        With sphere on, the sphere method's own verdict: ``pass`` (the hull
+        maps back to the input's hull), ``fail``, ``rejected`` or ``error``
+        (preprocessing declined or broke); empty when sphere is off or the
+        method could not be judged (the algorithm failed first).
     reason : str
         One line: the exception, the contract violation, the failed checks, the signal.
     verdict : Verdict, optional
@@ -90,6 +107,7 @@ def make_row(
     """
     if status not in STATUSES:
         raise ValueError(f"status must be one of {STATUSES}, got {status!r}")
+    stage = Stage(stage)
     if origin is None:
         try:
             origin = config.spec.origin
@@ -111,6 +129,8 @@ def make_row(
         "eps": config.eps,
         "config": config.label,
         "status": status,
+        "stage": stage.value,
+        "sphere_method": sphere_method,
         "reason": " ".join(str(reason).split())[:500],
         "seconds": float(seconds),
         "check_seconds": float(check_seconds),
@@ -140,6 +160,7 @@ def to_frame(rows: Iterable[ResultRow]) -> pd.DataFrame:
         df[col] = pd.to_numeric(df[col], errors="coerce").astype("Int64")
     for col in ("seconds", "check_seconds", "eps_value", "max_violation", "distround", "volume", "qhull_volume"):
         df[col] = pd.to_numeric(df[col], errors="coerce").astype("float64")
-    for col in ("failed_checks", "severity", "qhull_options", "offending", "reason", "invalid_input", "transform"):
+    for col in ("failed_checks", "severity", "qhull_options", "offending", "reason", "invalid_input", "transform",
+                "stage", "sphere_method"):
         df[col] = df[col].astype("string")
     return df

@@ -66,6 +66,7 @@ from typing import Any
 import numpy as np
 from scipy.spatial import cKDTree
 
+from .contract import FaceSet
 from .tolerance import tolerance
 
 __all__ = [
@@ -349,17 +350,19 @@ def map_back(output: Any, original_indices: np.ndarray) -> Any:
 
     Parameters
     ----------
-    output : array_like of int, or sequence of sequences of int
-        A 2D vertex list, an (m, 3) triangle array, or a list of polygons.
+    output : array_like of int, sequence of sequences of int, or FaceSet
+        A 2D vertex list, an (m, 3) triangle array, a list of polygons, or
+        normalised faces (:class:`~hullstress.contract.FaceSet`).
     original_indices : ndarray of shape (k,), int64
         The second value returned by :func:`sphere_project`.
 
     Returns
     -------
-    ndarray of int64, or list of ndarray
+    ndarray of int64, list of ndarray, or FaceSet
         The same structure with every index ``i`` replaced by
         ``original_indices[i]``: an array for regular input, a list of
-        arrays for polygons of different sizes.
+        arrays for polygons of different sizes, a FaceSet for a FaceSet
+        (face ``k`` stays face ``k``).
 
     Examples
     --------
@@ -369,6 +372,8 @@ def map_back(output: Any, original_indices: np.ndarray) -> Any:
     [[5, 7, 9, 7], [9, 5]]
     """
     idx = np.asarray(original_indices, dtype=np.int64)
+    if isinstance(output, FaceSet):
+        return FaceSet(idx[output.indices], output.offsets.copy())
     try:
         regular = np.asarray(output, dtype=np.int64)
     except ValueError:  # ragged: polygons of different sizes

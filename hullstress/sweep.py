@@ -33,8 +33,9 @@ class SweepOptions:
     profile: str = "quick"
     algorithms: tuple[str, ...] = ()
     generators: tuple[str, ...] = ()
-    sphere: str = "both"
-    eps: str = "both"
+    #: None: each algorithm's default variants (see hullstress.config.default_variants).
+    sphere: str | None = None
+    eps: str | None = None
     sizes: tuple[int, ...] | None = None
     seed: int = 0
     points_files: tuple[str, ...] = ()

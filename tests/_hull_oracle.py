@@ -56,3 +56,18 @@ def random_cloud(seed: int, n: int, kind: str) -> np.ndarray:
     if kind == "cube":
         return rng.random((n, 3)) * 2 - 1
     return rng.standard_normal((n, 3))
+
+
+def qhull_outward(points: np.ndarray) -> np.ndarray:
+    """Qhull's triangles (scipy), each turned to face outward: a correct 3D hull of a random cloud.
+
+    For tests that need an algorithm to be right, so that what fails is something else.
+    """
+    from scipy.spatial import ConvexHull
+
+    hull = ConvexHull(points)
+    faces = hull.simplices.copy()
+    a, b, c = (points[faces[:, k]] for k in range(3))
+    inward = np.einsum("ij,ij->i", np.cross(b - a, c - a), hull.equations[:, :3]) < 0
+    faces[inward] = faces[inward][:, ::-1]
+    return faces

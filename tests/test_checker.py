@@ -248,14 +248,18 @@ def test_locally_convex_double_cover_is_caught():
 
 
 def test_flat_input_with_a_surface():
-    # Affinely degenerate (coplanar) 3D input: no closed surface of non-degenerate facets.
+    # Coplanar 3D input: the hull is a flat polygon (README "Lower-dimensional input").  Qhull's
+    # joggled hull of it is a two-sided triangulation of that polygon, a correct answer; with one
+    # face less it has a hole; a triangle and its reverse miss most of the polygon.
     pts = np.c_[np.random.default_rng(2).random((30, 2)), np.zeros(30)]
     ref = qhull_reference(pts)
     assert ref.affine_rank == 2 and ref.options == "QJ" and ref.qhull_ok is False
     v = check(pts, ref.faces, reference=ref)
-    assert not v.convexity and v.affine_rank == 2
+    assert v.ok and v.affine_rank == 2 and v.qhull_agreement is None
+    v = check(pts, ref.faces.triangles()[1:], reference=ref)
+    assert not v.manifoldness and "hole" in v.detail
     v = check(pts, [[0, 1, 2], [0, 2, 1]])
-    assert not v.convexity and not v.manifoldness
+    assert not v.containment and v.n_missing_extreme == 6
 
 
 # --------------------------------------------------------------------------- corruptions (2D)

@@ -62,7 +62,7 @@ def test_points_file_only_run_writes_report_and_exits_0(tmp_path, good_plugin, s
     assert run_dir.parent == tmp_path / "out"
     df = pd.read_csv(run_dir / "results.csv", keep_default_na=False)
     assert list(df.columns) == list(ROW_COLUMNS)
-    assert len(df) == 2  # one case x (sphere off, on)
+    assert len(df) == 1  # one case, sphere off: the default for a plug-in
     assert set(df["generator"]) == {"file"} and set(df["status"]) == {"pass"}
     meta = json.loads((run_dir / "run.json").read_text())
     assert meta["complete"] is True and meta["seed"] == 0 and "numpy" in meta["versions"]

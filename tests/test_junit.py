@@ -42,12 +42,14 @@ def test_one_testcase_per_config_and_family_with_failure_counts():
     doc = ET.fromstring(junit_xml(table, []).split("\n", 1)[1])
     assert doc.tag == "testsuites"
     suites = doc.findall("testsuite")
-    assert sorted(s.get("name") for s in suites) == ["a[sphere=off,eps=n/a]", "a[sphere=on,eps=n/a]"]
-    cases = doc.findall("testsuite/testcase")
+    # The sphere-on config also gets the suite of its preprocessing (the sphere method), all passing here.
+    assert sorted(s.get("name") for s in suites) == [
+        "a[sphere=off,eps=n/a]", "a[sphere=on,eps=n/a]", "a[sphere=on,eps=n/a] (stage preprocess)"]
+    cases = [c for c in doc.findall("testsuite/testcase") if "preprocess" not in c.get("classname")]
     assert len(cases) == 4
     assert {(c.get("classname"), c.get("name")) for c in cases} == {
         (cfg, fam) for cfg in ("a[sphere=off,eps=n/a]", "a[sphere=on,eps=n/a]") for fam in ("grid", "dup")}
-    assert doc.get("tests") == "4" and doc.get("failures") == "4"
+    assert doc.get("tests") == "6" and doc.get("failures") == "4"
     grid = [c for c in cases if c.get("name") == "grid"][0]
     failure = grid.find("failure")
     assert failure.get("message") == "2 of 3 calls failed: containment (2)"
@@ -86,3 +88,24 @@ def test_a_clean_table_has_no_failures():
     assert doc.get("failures") == "0" and not doc.findall(".//failure")
     empty = ET.fromstring(junit_xml(table.iloc[0:0], []).split("\n", 1)[1])
     assert empty.get("tests") == "0"
+
+
+def test_stages_are_kept_apart():
+    """A failure of the sphere method is not the algorithm's; a checker error is an <error>, not a failure."""
+    table = _table()
+    table["stage"] = "algorithm"
+    on_grid = (table["sphere"] == "on") & (table["generator"] == "grid") & (table["status"] == "fail")
+    table.loc[on_grid, "stage"] = "preprocess"
+    off_dup_error = (table["sphere"] == "off") & (table["status"] == "error")
+    table.loc[off_dup_error, "stage"] = "check"
+    doc = ET.fromstring(junit_xml(table, []).split("\n", 1)[1])
+
+    def case(classname, name):
+        return [c for c in doc.iter("testcase") if c.get("classname") == classname and c.get("name") == name][0]
+
+    assert case("a[sphere=on,eps=n/a]", "grid").find("failure") is None
+    method = case("a[sphere=on,eps=n/a] (stage preprocess)", "grid").find("failure")
+    assert method.get("message") == "2 of 3 calls failed: containment (2)"
+    dup = case("a[sphere=off,eps=n/a]", "dup")
+    assert dup.find("failure") is None and dup.find("error").get("type") == "internal"
+    assert doc.get("errors") == "1"

@@ -66,3 +66,12 @@ def test_readme_plugin_example_runs_exactly_as_printed(tmp_path):
     assert set(table["generator"]) == {"uniform", "cube-faces"}
     uniform = table[(table["generator"] == "uniform") & (table["sphere"] == "off")]
     assert len(uniform) > 0 and set(uniform["status"]) == {"pass"}
+
+
+def test_readme_results_table_names_every_column():
+    from hullstress.results import ROW_COLUMNS
+
+    section = README.split("## The results table", 1)[1].split("\n## ", 1)[0]
+    named = set(re.findall(r"`([a-z_]+)`", "\n".join(line.split("|")[1] for line in section.splitlines()
+                                                       if line.startswith("| `"))))
+    assert set(ROW_COLUMNS) <= named, sorted(set(ROW_COLUMNS) - named)

@@ -276,3 +276,14 @@ def test_degenerate_inputs(pts, expected):
 def test_bad_calls(points, kwargs, match):
     with pytest.raises(ValueError, match=match):
         sphere_project(points, **kwargs)
+
+
+@pytest.mark.parametrize("scale", [1e160, 1e200, 1e300, 2.0**1020])
+def test_default_duplicate_tolerance_stays_finite_at_huge_scale(scale):
+    # Issue 13: the scaled tolerance overflowed to inf above ~1e154, so every point was a
+    # "duplicate" of the first (or, passed explicitly, the projection refused eps=inf).
+    pts = random_cloud(0, 30, 3) * scale
+    eps = tolerance(pts, "scaled")
+    assert np.isfinite(eps)
+    assert len(surface_points(pts).kept) == 30
+    assert len(surface_points(pts, eps=eps).kept) == 30

@@ -26,6 +26,7 @@ from ..verdict import Verdict
 from ._geometry import Interior, distround, exact_scale
 from .certify import Certificate, certify
 from .extreme import distinct_rows, exact_extreme_2d, first_of_each, rows_in
+from .lowdim import verdict_if_degenerate
 from .predicates import orient2d, orient2d_value, orient3d, orient3d_value
 from .qhull import QhullReference, certified_extremes, qhull_reference
 from .rank import witness_simplex
@@ -183,6 +184,9 @@ def check(
     (False, ('containment', 'qhull_agreement'), (2,))
     """
     pts = validate_points(points)
+    lower = verdict_if_degenerate(pts, faces, reference=reference, max_offending=max_offending)
+    if lower is not None:  # a point, a segment or a flat polygon: README "Lower-dimensional input"
+        return lower
     n, dim = pts.shape
     normalised = _normalise(faces, n, dim)
     if reference is None and qhull:

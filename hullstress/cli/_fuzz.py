@@ -28,8 +28,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
     p.add_argument("--generator", action="append", default=[], metavar="NAME",
                    help="draw from this family (repeatable; default: every family of the algorithm's dim)")
     p.add_argument("--sphere", choices=("off", "on"), default="off", help="sphere projection first (default off)")
-    p.add_argument("--eps", choices=("scaled", "fixed"), default="scaled",
-                   help="eps policy for algorithms taking eps (default scaled)")
+    p.add_argument("--eps", choices=("scaled", "fixed"), default=None,
+                   help="eps policy for algorithms taking eps (default: scaled for in-house algorithms, not passed "
+                   "to plug-ins)")
     p.add_argument("--max-examples", type=int, default=200, metavar="N",
                    help="Hypothesis examples per search (default 200)")
     p.add_argument("--max-findings", type=int, default=3, metavar="N",

@@ -22,13 +22,17 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
 
 def _algorithms() -> list[str]:
     from .._registry import algorithms
+    from ..config import default_variants
 
     lines = ["algorithms (name, dim, origin, variants):"]
     specs = algorithms()
     width = max((len(s.name) for s in specs), default=4)
     for s in specs:
-        eps = "eps=scaled|fixed" if s.takes_eps else "eps=n/a"
-        lines.append(f"  {s.name:<{width}}  {s.dim}D  {s.origin:<8}  sphere=off|on  {eps}  {s.summary}")
+        defaults = default_variants(s.origin)
+        eps = "eps=" + ("|".join(defaults.eps) if s.takes_eps and defaults.eps else "n/a")
+        sphere = "sphere=" + "|".join(defaults.sphere)
+        lines.append(f"  {s.name:<{width}}  {s.dim}D  {s.origin:<8}  {sphere:<13}  {eps:<16}  {s.summary}")
+    lines.append("  (default variants; --sphere and --eps given to `run` apply to every algorithm)")
     try:
         from ..adapters import missing_adapters
     except ImportError:
@@ -60,11 +64,14 @@ def _variants() -> list[str]:
         "variants:",
         "  sphere=off   the algorithm sees the input points",
         "  sphere=on    Kenwright's preprocessing first: duplicates removed, support mapping from the "
-        "centroid, projection onto a unit sphere (circle in 2D); indices mapped back",
+        "centroid, projection onto a unit sphere (circle in 2D); the algorithm is judged on the projected "
+        "points, the method on whether its hull mapped back is the input's hull (stage preprocess)",
         "  eps=scaled   eps = 2**-52 * (max - min distance of the X-Y flattened points from the origin) "
-        "(Nathan's gift-wrapping formula)",
+        "(Nathan's gift-wrapping formula, finite at every scale)",
         "  eps=fixed    eps = 2**-52 (the same without the extent factor)",
-        "  eps=n/a      the algorithm takes no eps keyword",
+        "  eps=n/a      no eps is passed: the algorithm takes none, or keeps its own tolerance",
+        "defaults: in-house algorithms run sphere=off|on and eps=scaled|fixed; plug-ins, adapters and "
+        "executables run sphere=off with their own tolerance (`run --sphere both` opts them in)",
     ]
 
 
@@ -75,7 +82,9 @@ def _checks() -> list[str]:
         "manifoldness": "closed, consistently outward-oriented genus-0 surface (2D: simple ccw polygon)",
         "qhull_agreement": "extreme vertex set and volume agree with Qhull (scipy), itself certified",
     }
-    return ["checks (all exact):"] + [f"  {c:<16} {text[c]}" for c in CHECKS]
+    return (["checks (all exact):"] + [f"  {c:<16} {text[c]}" for c in CHECKS]
+            + ["  lower-dimensional input (a point, a segment, a flat polygon) is judged against its exact hull "
+               "instead; see README \"Lower-dimensional input\""])
 
 
 def render(what: str | None) -> str:

@@ -55,10 +55,12 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
                    help="run only this algorithm (repeatable; default: every registered one; see `list algorithms`)")
     p.add_argument("--generator", action="append", default=[], metavar="NAME",
                    help="use only this generator family (repeatable; default: every family; see `list generators`)")
-    p.add_argument("--sphere", choices=SPHERE_CHOICES, default="both",
-                   help="Kenwright's sphere projection before the algorithm: off, on or both (default)")
-    p.add_argument("--eps", choices=EPS_CHOICES, default="both",
-                   help="tolerance policy for algorithms taking eps: scaled, fixed or both (default)")
+    p.add_argument("--sphere", choices=SPHERE_CHOICES, default=None,
+                   help="Kenwright's sphere projection before the algorithm: off, on or both, for every algorithm "
+                   "(default: both for in-house algorithms, off for plug-ins, adapters and executables)")
+    p.add_argument("--eps", choices=EPS_CHOICES, default=None,
+                   help="tolerance policy passed as eps to every algorithm taking eps: scaled, fixed or both "
+                   "(default: both for in-house algorithms; plug-ins keep their own tolerance, no eps is passed)")
     p.add_argument("--sizes", type=str, default=None, metavar="N[,N...]",
                    help="point counts to generate (default: the profile's)")
     p.add_argument("--seed", type=int, default=0, help="base seed; same seed and arguments give the same table (default 0)")
@@ -140,12 +142,17 @@ def _print_summary(the_run: Any, args: argparse.Namespace, *, quiet: bool) -> No
     counts = table["status"].value_counts()
     line = ", ".join(f"{counts.get(s, 0)} {s}" for s in ("pass", "fail", "rejected", "error", "timeout", "crash"))
     if not quiet and len(table):
-        worst = failure_counts(table).groupby(["algorithm", "sphere", "eps"], observed=True)["failed"].sum()
-        worst = worst.sort_values(ascending=False).head(8)
+        by_config = failure_counts(table)
+        worst = by_config.groupby(["algorithm", "sphere", "eps"], observed=True)["failed"].sum()
+        worst = worst[worst > 0].sort_values(ascending=False).head(8)
         if len(worst):
             print("failures by algorithm config:")
             for (alg, sph, eps), n in worst.items():
                 print(f"  {alg}[sphere={sph},eps={eps}]: {n}")
+        method, internal = int(by_config["method_failed"].sum()), int(by_config["internal_errors"].sum())
+        if method or internal:
+            print(f"not the algorithms': {method} failures of the sphere method or eps set-up (stage preprocess), "
+                  f"{internal} internal errors (stage check)")
     state = "" if the_run.complete and not the_run.interrupted else " (INCOMPLETE)"
     wall = the_run.seconds.get("sweep", 0.0)
     print(f"{len(table)}/{the_run.plan.n_calls} calls in {wall:.1f} s: {line}{state}")

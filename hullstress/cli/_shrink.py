@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..config import NO_EPS, AlgorithmConfig
+from ..config import single_config
 from ..errors import UsageError
 
 __all__ = ["add_parser", "shrink_command"]
@@ -31,8 +31,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
     p.add_argument("points_file", metavar="POINTS_FILE", help="the failing case (.npy, .csv, .xyz, Qhull text)")
     p.add_argument("--algorithm", required=True, metavar="NAME", help="the algorithm (see `list algorithms`)")
     p.add_argument("--sphere", choices=("off", "on"), default="off", help="sphere projection first (default off)")
-    p.add_argument("--eps", choices=("scaled", "fixed"), default="scaled",
-                   help="eps policy for algorithms taking eps (default scaled; ignored otherwise)")
+    p.add_argument("--eps", choices=("scaled", "fixed"), default=None,
+                   help="eps policy for algorithms taking eps (default: scaled for in-house algorithms, not passed "
+                   "to plug-ins; ignored for algorithms without eps)")
     p.add_argument("--check", default=None, metavar="CHECK",
                    help="keep this failure (a check name, contract, error, timeout, crash); default: the "
                    "case's current failure")
@@ -89,7 +90,7 @@ def shrink_command(args: argparse.Namespace) -> int:
     dim = args.dim if args.dim is not None else spec.dim
     if dim != spec.dim:
         raise UsageError(f"--dim {dim} does not match algorithm {spec.name!r}, which takes {spec.dim}D points")
-    config = AlgorithmConfig(spec.name, args.sphere, args.eps if spec.takes_eps else NO_EPS)
+    config = single_config(spec, args.sphere, args.eps)
     case = _load(args, dim)
     row = run_config(case, config, timeout=args.timeout)
     sig = signature_of(row)

@@ -19,14 +19,14 @@ import numpy as np
 from ..case import Case
 from ..options import DEFAULTS
 from .replay import add_to_corpus
-from .store import provenance_for
+from .store import provenance_for, with_stage
 
 __all__ = ["corpus_signature", "select_for_corpus", "save_minimised_failures"]
 
 
-def corpus_signature(check: str) -> str:
+def corpus_signature(check: str, stage: str = "algorithm") -> str:
     """A triage signature's check as a corpus signature (``containment`` -> ``fail:containment``)."""
-    return check if check in ("error", "timeout", "crash") else f"fail:{check}"
+    return with_stage(check if check in ("error", "timeout", "crash") else f"fail:{check}", stage)
 
 
 def select_for_corpus(records: Sequence[Any], new_groups: Collection[tuple[str, ...]] | None = None) -> list[Any]:
@@ -42,7 +42,7 @@ def select_for_corpus(records: Sequence[Any], new_groups: Collection[tuple[str, 
     best: dict[tuple[str, str], Any] = {}
     for rec in records:
         sig = rec.signature
-        if new_groups is not None and (sig.algorithm, sig.sphere, sig.eps, sig.family, corpus_signature(sig.check)) not in new_groups:
+        if new_groups is not None and (sig.algorithm, sig.sphere, sig.eps, sig.family, corpus_signature(sig.check, sig.stage)) not in new_groups:
             continue
         key = (sig.algorithm, sig.family)
         if key not in best or rec.case.n_points < best[key].case.n_points:

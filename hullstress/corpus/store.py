@@ -42,8 +42,9 @@ import numpy as np
 from ..case import Case
 from ..errors import CorpusError
 from ..files import atomic_write_text
+from ..records import Stage
 from ..results import ResultRow
-from ..triage.signature import failed_check
+from ..triage.signature import failed_check, stage_of
 
 __all__ = [
     "FORMAT",
@@ -51,6 +52,7 @@ __all__ = [
     "CorpusEntry",
     "row_signature",
     "is_failure_signature",
+    "with_stage",
     "load_entry",
     "save_entry",
     "iter_corpus",
@@ -68,17 +70,33 @@ def row_signature(row: ResultRow | Mapping[str, Any]) -> str:
 
     ``pass`` / ``rejected`` / ``error`` / ``timeout`` / ``crash``, or for a
     ``fail`` the failed check as triage names it: ``fail:containment``,
-    ``fail:contract``, ``fail:invalid-input`` ...
+    ``fail:contract``, ``fail:invalid-input`` ...; prefixed by the stage when
+    that is not the algorithm (``preprocess/fail:containment``, ``check/error``).
     """
     values = row.values if isinstance(row, ResultRow) else row
     status = str(values["status"])
     if status != "fail":
-        return status
-    return "fail:" + str(failed_check(status, values.get("reason"), values.get("failed_checks")))
+        signature = status
+    else:
+        signature = "fail:" + str(failed_check(status, values.get("reason"), values.get("failed_checks")))
+    return with_stage(signature, values.get("stage"))
+
+
+def with_stage(signature: str, stage: Any) -> str:
+    """``signature`` prefixed with ``stage/`` unless the stage is the algorithm's (or unknown).
+
+    Examples
+    --------
+    >>> with_stage("fail:containment", "preprocess"), with_stage("error", None)
+    ('preprocess/fail:containment', 'error')
+    """
+    text = stage_of(stage)
+    return signature if text == Stage.ALGORITHM else f"{text}/{signature}"
 
 
 def is_failure_signature(signature: str) -> bool:
-    """True for signatures that count as failures (fail:*, error, timeout, crash)."""
+    """True for signatures that count as failures (fail:*, error, timeout, crash, at any stage)."""
+    signature = signature.split("/", 1)[-1]
     return signature.startswith("fail") or signature in ("error", "timeout", "crash")
 
 

@@ -3,17 +3,24 @@
 The seeds claim that (1) Kenwright's sphere projection tames coplanar and
 collinear inputs and (2) an epsilon scaled to the geometry's extent keeps
 coplanar points on the hull.  The findings table answers with failure rates:
-for each family and algorithm, the share of failed calls (fail, error,
-timeout, crash; ``rejected`` is acceptable behaviour and not a failure) with
-sphere off vs on, and with eps scaled vs fixed.  Cells with no calls (an
-algorithm without ``eps``) are missing, not zero.
+for each family and algorithm, the share of calls in which the algorithm
+failed (fail, error, timeout, crash; ``rejected`` is acceptable behaviour and
+not a failure) with sphere off vs on, and with eps scaled vs fixed.  With
+sphere on the algorithm is judged on the projected points it was given; the
+sphere method's own failures (stage ``preprocess``: it raised, or the correct
+hull of the projected points does not map back to the input's hull) are the
+column ``sphere_method``, and ``sphere_end_to_end`` is the share of sphere-on
+calls that did not end in the input's hull for either reason, the measure of
+claim (1).  Cells with no calls (an algorithm without ``eps``) are missing,
+not zero.
 """
 
 from __future__ import annotations
 
 import pandas as pd
 
-from .tables import FAILED_STATUSES
+from ..records import Stage
+from .tables import failed_mask
 
 __all__ = ["findings_table", "findings_reading", "findings_markdown", "claim_families", "CLAIM_FAMILY_WORDS"]
 
@@ -21,11 +28,18 @@ __all__ = ["findings_table", "findings_reading", "findings_markdown", "claim_fam
 #: it (``generators.coplanar``, ``generators.collinear``), contains one of these.
 CLAIM_FAMILY_WORDS = ("coplanar", "collinear")
 
-_COLUMNS = ["family", "algorithm", "calls", "rate", "sphere_off", "sphere_on", "eps_scaled", "eps_fixed"]
+_COLUMNS = ["family", "algorithm", "calls", "rate", "sphere_off", "sphere_on", "sphere_method", "sphere_end_to_end",
+            "eps_scaled", "eps_fixed"]
 
 
-def _rate(df: pd.DataFrame) -> float:
-    return float(df["status"].isin(FAILED_STATUSES).mean()) if len(df) else float("nan")
+def _rate(df: pd.DataFrame, *stages: Stage) -> float:
+    """Share of ``df``'s calls failing at any of ``stages`` (the algorithm by default)."""
+    if not len(df):
+        return float("nan")
+    mask = pd.Series(False, index=df.index)
+    for stage in stages or (Stage.ALGORITHM,):
+        mask |= failed_mask(df, stage)
+    return float(mask.mean())
 
 
 def findings_table(table: pd.DataFrame) -> pd.DataFrame:
@@ -40,22 +54,28 @@ def findings_table(table: pd.DataFrame) -> pd.DataFrame:
     -------
     DataFrame
         Columns ``family, algorithm, calls, rate, sphere_off, sphere_on,
-        eps_scaled, eps_fixed`` (rates in [0, 1], NaN where no call ran).
+        sphere_method, sphere_end_to_end, eps_scaled, eps_fixed`` (rates in
+        [0, 1], NaN where no call ran).
 
     Examples
     --------
     >>> t = pd.DataFrame({"generator": "grid", "algorithm": "a", "sphere": ["off", "on", "off", "on"],
     ...                   "eps": ["scaled", "scaled", "fixed", "fixed"],
-    ...                   "status": ["fail", "pass", "fail", "rejected"]})
-    >>> findings_table(t)[["sphere_off", "sphere_on", "eps_scaled", "eps_fixed"]].iloc[0].tolist()
-    [1.0, 0.0, 0.5, 0.5]
+    ...                   "status": ["fail", "pass", "fail", "fail"],
+    ...                   "stage": ["algorithm", "algorithm", "algorithm", "preprocess"]})
+    >>> cols = ["sphere_off", "sphere_on", "sphere_method", "sphere_end_to_end", "eps_scaled", "eps_fixed"]
+    >>> findings_table(t)[cols].iloc[0].tolist()
+    [1.0, 0.0, 0.5, 0.5, 0.5, 0.5]
     """
     records = []
     if len(table):
         for (family, algorithm), sub in table.groupby(["generator", "algorithm"], sort=True, observed=True):
+            on = sub[sub["sphere"] == "on"]
             records.append({
                 "family": family, "algorithm": algorithm, "calls": len(sub), "rate": _rate(sub),
-                "sphere_off": _rate(sub[sub["sphere"] == "off"]), "sphere_on": _rate(sub[sub["sphere"] == "on"]),
+                "sphere_off": _rate(sub[sub["sphere"] == "off"]), "sphere_on": _rate(on),
+                "sphere_method": _rate(on, Stage.PREPROCESS),
+                "sphere_end_to_end": _rate(on, Stage.ALGORITHM, Stage.PREPROCESS),
                 "eps_scaled": _rate(sub[sub["eps"] == "scaled"]), "eps_fixed": _rate(sub[sub["eps"] == "fixed"]),
             })
     return pd.DataFrame.from_records(records, columns=_COLUMNS)
@@ -106,7 +126,8 @@ def findings_reading(findings: pd.DataFrame) -> list[str]:
     scopes = [("degenerate families (" + ", ".join(sorted(claim["family"].unique())) + ")", claim)] if len(claim) else []
     scopes.append(("all families", findings))
     for what, a, b, label in (
-        ("sphere projection", "sphere_off", "sphere_on", "off vs on"),
+        ("sphere projection", "sphere_off", "sphere_end_to_end", "off vs on, end to end"),
+        ("the algorithms on the projected points", "sphere_off", "sphere_on", "input vs projected"),
         ("the scaled epsilon", "eps_fixed", "eps_scaled", "fixed vs scaled"),
     ):
         for scope, f in scopes:
@@ -129,6 +150,11 @@ def findings_reading(findings: pd.DataFrame) -> list[str]:
                 f"({label.split(' vs ')[1]}); lower in {lower}, higher in {higher}, equal in {same} of {n} "
                 f"family x algorithm cells: it {verdict}."
             )
+    for scope, f in scopes:
+        method = f["sphere_method"].dropna()
+        if len(method):
+            lines.append(f"the sphere method itself, {scope}: it raised or lost the input's hull in {method.mean():.1%} "
+                         f"of sphere-on calls on average (stage preprocess, not counted against the algorithms).")
     return lines
 
 
@@ -144,9 +170,11 @@ def findings_markdown(findings: pd.DataFrame, reading: list[str] | None = None) 
     if findings.empty:
         out.append("_(no calls)_")
         return "\n".join(out) + "\n"
-    out.append("| family | algorithm | calls | rate | sphere off | sphere on | eps scaled | eps fixed |")
-    out.append("|---|---|---|---|---|---|---|---|")
+    out.append("| family | algorithm | calls | rate | sphere off | sphere on | sphere method | sphere end to end "
+               "| eps scaled | eps fixed |")
+    out.append("|---|---|---|---|---|---|---|---|---|---|")
     for r in findings.itertuples(index=False):
         out.append(f"| {r.family} | {r.algorithm} | {r.calls} | {_pct(r.rate)} | {_pct(r.sphere_off)} | "
-                   f"{_pct(r.sphere_on)} | {_pct(r.eps_scaled)} | {_pct(r.eps_fixed)} |")
+                   f"{_pct(r.sphere_on)} | {_pct(r.sphere_method)} | {_pct(r.sphere_end_to_end)} | "
+                   f"{_pct(r.eps_scaled)} | {_pct(r.eps_fixed)} |")
     return "\n".join(out) + "\n"

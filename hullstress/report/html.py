@@ -22,7 +22,8 @@ from ..results import STATUSES
 from ..triage.grouping import FailureGroup
 from .failures import FailureRecord
 from .findings import findings_reading
-from .tables import FAILED_STATUSES, failure_counts, status_counts
+from ..records import Stage
+from .tables import failed_mask, failure_counts, status_counts
 
 __all__ = ["render_html", "png_data_uri", "rate_matrix"]
 
@@ -91,7 +92,7 @@ def rate_matrix(table: pd.DataFrame) -> pd.DataFrame:
     """
     if table.empty:
         return pd.DataFrame()
-    failed = table["status"].isin(FAILED_STATUSES)
+    failed = failed_mask(table)
     rates = failed.groupby([table["config"], table["generator"]], observed=True).mean()
     return rates.unstack("generator").sort_index()
 
@@ -100,8 +101,8 @@ def _rate_matrix_html(table: pd.DataFrame) -> str:
     m = rate_matrix(table)
     if m.empty:
         return "<p><em>(no calls)</em></p>"
-    counts = table.groupby(["config", "generator"], observed=True)["status"].agg(
-        lambda s: f"{int(s.isin(FAILED_STATUSES).sum())}/{len(s)}")
+    counts = failed_mask(table).groupby([table["config"], table["generator"]], observed=True).agg(
+        lambda s: f"{int(s.sum())}/{len(s)}")
     head = "<th class=l>config \\ family</th>" + "".join(f"<th>{_e(c)}</th>" for c in m.columns)
     rows = []
     for config, rates in m.iterrows():
@@ -116,7 +117,8 @@ def _rate_matrix_html(table: pd.DataFrame) -> str:
 
 
 def _pct_cell(column: str, value: Any) -> tuple[str | None, str]:
-    if column in ("rate", "failure_rate", "sphere_off", "sphere_on", "eps_scaled", "eps_fixed"):
+    if column in ("rate", "failure_rate", "sphere_off", "sphere_on", "sphere_method", "sphere_end_to_end",
+                  "eps_scaled", "eps_fixed"):
         if value is None or (isinstance(value, float) and math.isnan(value)):
             return "", ""
         return f"{float(value):.0%}", _heat(float(value))
@@ -225,9 +227,12 @@ def render_html(
     )
     if groups is None:
         groups = [r.group for r in records if r.group is not None]
-    failed = int(table["status"].isin(FAILED_STATUSES).sum()) if len(table) else 0
-    out.append(f"<p>{failed} failed calls in {len(groups)} failure groups "
-               f"(signature: algorithm, variant, failed check, family).</p>")
+    failed = int(failed_mask(table).sum()) if len(table) else 0
+    method = int(failed_mask(table, Stage.PREPROCESS).sum()) if len(table) else 0
+    internal = int(failed_mask(table, Stage.CHECK).sum()) if len(table) else 0
+    out.append(f"<p>{failed} calls in which the algorithm failed, {method} failures of the sphere method or eps "
+               f"set-up (stage preprocess), {internal} internal errors (stage check); {len(groups)} failure groups "
+               f"(signature: algorithm, variant, failed check, family, stage).</p>")
 
     out.append('<h2 id="status">Calls by status</h2>')
     totals = (table["status"].value_counts().reindex(list(STATUSES), fill_value=0) if len(table)
@@ -239,8 +244,9 @@ def render_html(
                           left=("algorithm", "sphere", "eps"), cell=_pct_cell))
 
     out.append('<h2 id="rates">Failure rates by algorithm x variant x family</h2>')
-    out.append("<p>Share of calls ending in fail, error, timeout or crash (rejected degenerate input is "
-               "acceptable behaviour and not counted). Hover a cell for failed/calls.</p>")
+    out.append("<p>Share of calls in which the algorithm failed: fail, error, timeout or crash at stage "
+               "algorithm (rejected degenerate input is acceptable behaviour; failures of the sphere method "
+               "and internal errors are not the algorithm's and not counted). Hover a cell for failed/calls.</p>")
     out.append(_rate_matrix_html(table))
     if len(table):
         out.append("<h3>Failure counts (groups with a failure, worst first)</h3>")
@@ -249,7 +255,8 @@ def render_html(
     out.append('<h2 id="findings">Findings: the seeds\' claims against this run</h2>')
     out.append("<p>Claims: sphere projection tames coplanar and collinear inputs; an epsilon scaled to the "
                "geometry keeps coplanar points on the hull. Failure rate per family and algorithm, with "
-               "sphere off vs on and eps scaled vs fixed (blank: the variant does not apply).</p>")
+               "sphere off vs on (on: the algorithm judged on the projected points), the sphere method's own "
+               "failures, sphere on end to end, and eps scaled vs fixed (blank: the variant does not apply).</p>")
     out.append("<ul>" + "".join(f"<li>{_e(line)}</li>" for line in findings_reading(findings)) + "</ul>")
     out.append(_table(findings, left=("family", "algorithm"), cell=_pct_cell))
 

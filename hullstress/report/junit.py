@@ -1,9 +1,14 @@
 """JUnit XML for CI systems: one test case per algorithm config x family.
 
-A test case fails when any of its calls failed (fail, error, timeout, crash).
-The ``<failure>`` element's message counts the failures by check; its text
-carries, for each failure group of that config and family, the minimal case
-(exact ``repr`` floats) and the one-line reproduce command.
+A test case fails when the algorithm failed in any of its calls (fail, error,
+timeout, crash at stage ``algorithm``).  The ``<failure>`` element's message
+counts the failures by check; its text carries, for each failure group of
+that config and family, the minimal case (exact ``repr`` floats) and the
+one-line reproduce command.  An internal error of the checker (stage
+``check``) is an ``<error>`` of the test case, not a failure.  Failures of
+the sphere method or eps set-up (stage ``preprocess``) are not the
+algorithm's: they go to a suite of their own per config, named
+``<config> (stage preprocess)``, present when the config ran preprocessing.
 """
 
 from __future__ import annotations
@@ -18,7 +23,8 @@ import pandas as pd
 
 from ..triage.signature import signature_of
 from .failures import FailureRecord
-from .tables import FAILED_STATUSES
+from ..records import Stage
+from .tables import failed_mask, stages
 
 __all__ = ["junit_xml", "write_junit"]
 
@@ -73,51 +79,66 @@ def junit_xml(table: pd.DataFrame, records: Sequence[FailureRecord], *, suite: s
     True
     """
     root = ET.Element("testsuites", name=suite)
-    total_tests = total_failures = 0
-    total_time = 0.0
-    by_key: dict[tuple[str, str, str, str], list[FailureRecord]] = {}
+    totals = {"tests": 0, "failures": 0, "errors": 0, "time": 0.0}
+    by_key: dict[tuple[str, ...], list[FailureRecord]] = {}
     for rec in records:
         s = rec.signature
-        by_key.setdefault((s.algorithm, s.sphere, s.eps, s.family), []).append(rec)
+        by_key.setdefault((s.algorithm, s.sphere, s.eps, s.family, s.stage), []).append(rec)
     if len(table):
+        table = table.assign(stage=stages(table))
         for config, sub in table.groupby("config", sort=True, observed=True):
-            ts = ET.SubElement(root, "testsuite", name=str(config))
-            n_tests = n_fail = 0
-            suite_time = 0.0
-            for family, rows in sub.groupby("generator", sort=True, observed=True):
-                seconds = float(rows["seconds"].fillna(0).sum() + rows["check_seconds"].fillna(0).sum())
-                tc = ET.SubElement(ts, "testcase", classname=str(config), name=str(family), time=f"{seconds:.3f}")
-                n_tests += 1
-                suite_time += seconds
-                failed = rows[rows["status"].isin(FAILED_STATUSES)]
-                if len(failed):
-                    n_fail += 1
-                    first = rows.iloc[0]
-                    key = (str(first["algorithm"]), str(first["sphere"]), str(first["eps"]), str(family))
-                    checks = pd.Series([signature_of(r).check for _, r in failed.iterrows()]).value_counts()
-                    message = (f"{len(failed)} of {len(rows)} calls failed: "
-                               + ", ".join(f"{c} ({n})" for c, n in checks.items()))
-                    el = ET.SubElement(tc, "failure", message=_safe(message), type=str(checks.index[0]))
-                    recs = by_key.get(key, [])
-                    el.text = _safe(_failure_text(recs) if recs else "reasons: " + "; ".join(
-                        dict.fromkeys(str(r) for r in failed["reason"].fillna(""))))
-                rejected = int((rows["status"] == "rejected").sum())
-                if rejected:
-                    ET.SubElement(tc, "system-out").text = f"{rejected} of {len(rows)} calls rejected (degenerate input)"
-            ts.set("tests", str(n_tests))
-            ts.set("failures", str(n_fail))
-            ts.set("errors", "0")
-            ts.set("skipped", "0")
-            ts.set("time", f"{suite_time:.3f}")
-            total_tests += n_tests
-            total_failures += n_fail
-            total_time += suite_time
-    root.set("tests", str(total_tests))
-    root.set("failures", str(total_failures))
-    root.set("errors", "0")
-    root.set("time", f"{total_time:.3f}")
+            _suite(root, str(config), sub, Stage.ALGORITHM, by_key, totals)
+            if (sub["sphere"] == "on").any() or (sub["stage"] == Stage.PREPROCESS.value).any():
+                _suite(root, f"{config} (stage preprocess)", sub, Stage.PREPROCESS, by_key, totals)
+    root.set("tests", str(totals["tests"]))
+    root.set("failures", str(totals["failures"]))
+    root.set("errors", str(totals["errors"]))
+    root.set("time", f"{totals['time']:.3f}")
     ET.indent(root)
     return '<?xml version="1.0" encoding="UTF-8"?>\n' + ET.tostring(root, encoding="unicode") + "\n"
+
+
+def _suite(root: ET.Element, name: str, sub: pd.DataFrame, stage: Stage,
+           by_key: dict[tuple[str, ...], list[FailureRecord]], totals: dict[str, float]) -> None:
+    """One ``<testsuite>``: a test case per family, failing on ``stage``'s failures."""
+    ts = ET.SubElement(root, "testsuite", name=name)
+    n_tests = n_fail = n_error = 0
+    suite_time = 0.0
+    for family, rows in sub.groupby("generator", sort=True, observed=True):
+        seconds = float(rows["seconds"].fillna(0).sum() + rows["check_seconds"].fillna(0).sum())
+        tc = ET.SubElement(ts, "testcase", classname=name, name=str(family), time=f"{seconds:.3f}")
+        n_tests += 1
+        suite_time += seconds
+        failed = rows[failed_mask(rows, stage)]
+        if len(failed):
+            n_fail += 1
+            first = rows.iloc[0]
+            key = (str(first["algorithm"]), str(first["sphere"]), str(first["eps"]), str(family), stage.value)
+            checks = pd.Series([signature_of(r).check for _, r in failed.iterrows()]).value_counts()
+            message = (f"{len(failed)} of {len(rows)} calls failed: "
+                       + ", ".join(f"{c} ({n})" for c, n in checks.items()))
+            el = ET.SubElement(tc, "failure", message=_safe(message), type=str(checks.index[0]))
+            recs = by_key.get(key, [])
+            el.text = _safe(_failure_text(recs) if recs else "reasons: " + "; ".join(
+                dict.fromkeys(str(r) for r in failed["reason"].fillna(""))))
+        internal = rows[failed_mask(rows, Stage.CHECK)] if stage is Stage.ALGORITHM else rows.iloc[:0]
+        if len(internal):
+            n_error += 1
+            el = ET.SubElement(tc, "error", message=_safe(f"{len(internal)} of {len(rows)} calls: internal error "
+                                                          "of the checker"), type="internal")
+            el.text = _safe("; ".join(dict.fromkeys(str(r) for r in internal["reason"].fillna(""))))
+        rejected = int(((rows["status"] == "rejected") & (rows["stage"] == stage.value)).sum())
+        if rejected:
+            ET.SubElement(tc, "system-out").text = f"{rejected} of {len(rows)} calls rejected (degenerate input)"
+    ts.set("tests", str(n_tests))
+    ts.set("failures", str(n_fail))
+    ts.set("errors", str(n_error))
+    ts.set("skipped", "0")
+    ts.set("time", f"{suite_time:.3f}")
+    totals["tests"] += n_tests
+    totals["failures"] += n_fail
+    totals["errors"] += n_error
+    totals["time"] += suite_time
 
 
 def write_junit(path: str | Path, table: pd.DataFrame, records: Sequence[FailureRecord]) -> Path:

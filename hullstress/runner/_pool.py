@@ -43,6 +43,7 @@ from typing import Any, Iterator
 
 from ..evaluate import CaseFacts
 from ..results import ResultRow
+from ..records import Stage
 from ._protocol import AlgorithmRef, Job, death_reason, emit_row, row_for
 from ._types import ExecutionStats, Task
 from ._worker import worker_main
@@ -457,7 +458,8 @@ class WorkerPool:
             elif phase == "check":
                 why = f"exceeded {limit:g} s" if kill_reason else f"crashed ({how})"
                 emit_row(row_for(task, k, status="error", reason=f"internal: checker {why}", origin=origin,
-                              facts_info=facts_info, seconds=call_seconds, check_seconds=elapsed), on_row, stats)
+                              facts_info=facts_info, seconds=call_seconds, check_seconds=elapsed,
+                              stage=Stage.CHECK), on_row, stats)
                 job.start_at = k + 1
             elif phase == "facts":
                 why = f"exceeded {limit:g} s" if kill_reason else f"crashed ({how})"
@@ -492,5 +494,5 @@ class WorkerPool:
                  on_row: Callable[[ResultRow], None], stats: ExecutionStats) -> None:
         for k in range(job.start_at, len(job.task.configs)):
             emit_row(row_for(job.task, k, status="error", reason=reason, origin=self._origin(job.task, k, settings),
-                          facts_info=(None, None)), on_row, stats)
+                          facts_info=(None, None), stage=Stage.CHECK), on_row, stats)
         job.start_at = len(job.task.configs)

@@ -40,6 +40,7 @@ from typing import Any
 from .._registry import ALGORITHMS, AlgorithmSpec, get_algorithm
 from ..errors import UsageError, one_line
 from ..evaluate import CaseFacts, call_algorithm, case_facts, judge
+from ..records import Stage
 from ..results import ResultRow, make_row
 from ._types import ExecutionStats, Task
 
@@ -273,7 +274,7 @@ def run_job(job: Job, problems: Mapping[str, str] | None = None, *,
             facts = case_facts(case, qhull=job.qhull)
         except Exception as exc:  # trusted code failing must still leave one row per config
             for k in range(job.start_at, len(configs)):
-                yield ("row", k, make_row(case, configs[k], status="error",
+                yield ("row", k, make_row(case, configs[k], status="error", stage=Stage.CHECK,
                                           reason=f"internal: case facts raised {one_line(exc)}"))
             yield ("done",)
             return
@@ -310,7 +311,8 @@ def run_job(job: Job, problems: Mapping[str, str] | None = None, *,
         try:
             row = judge(case, config, outcome, facts)
         except Exception as exc:
-            row = make_row(case, config, status="error", reason=f"internal: judging raised {one_line(exc)}",
+            row = make_row(case, config, status="error", stage=Stage.CHECK,
+                           reason=f"internal: judging raised {one_line(exc)}",
                            seconds=outcome.seconds, eps_value=outcome.eps_value,
                            degenerate=facts.degenerate, invalid_input=facts.invalid_input)
         yield ("row", k, row)
@@ -319,10 +321,14 @@ def run_job(job: Job, problems: Mapping[str, str] | None = None, *,
 
 def row_for(task: Task, k: int, *, status: str, reason: str, origin: str | None,
             facts_info: tuple[bool | None, str | None], seconds: float = 0.0,
-            check_seconds: float = 0.0) -> ResultRow:
-    """A row the parent builds itself (timeout, crash, limits), with the facts the worker reported."""
+            check_seconds: float = 0.0, stage: Stage = Stage.ALGORITHM) -> ResultRow:
+    """A row the parent builds itself (timeout, crash, limits), with the facts the worker reported.
+
+    ``stage`` is ``check`` when the harness's own part (facts, checker) ran out
+    of time or died; a call that hangs or dies is the algorithm's.
+    """
     degenerate, invalid = facts_info
-    return make_row(task.case, task.configs[k], status=status, reason=reason, seconds=seconds,
+    return make_row(task.case, task.configs[k], status=status, stage=stage, reason=reason, seconds=seconds,
                     check_seconds=check_seconds, degenerate=degenerate, invalid_input=invalid, origin=origin)
 
 

@@ -30,7 +30,7 @@ import numpy as np
 
 from .._registry import get_algorithm, get_generator, generators
 from ..case import Case
-from ..config import NO_EPS, AlgorithmConfig
+from ..config import AlgorithmConfig, single_config
 from ..errors import UsageError
 from ..results import ResultRow
 from .oracle import run_config
@@ -144,10 +144,7 @@ def _search(strategy: Any, condition: Any, key: bytes, *, max_examples: int, dat
 
 
 def _default_config(algorithm: str, sphere: str, eps: str | None) -> AlgorithmConfig:
-    spec = get_algorithm(algorithm)
-    if eps is None or not spec.takes_eps:
-        eps = "scaled" if spec.takes_eps else NO_EPS
-    return AlgorithmConfig(algorithm, sphere, eps)
+    return single_config(get_algorithm(algorithm), sphere, eps)
 
 
 def fuzz(
@@ -174,7 +171,8 @@ def fuzz(
         A registered algorithm.
     sphere : {"off", "on"}
     eps : {"scaled", "fixed"}, optional
-        Ignored for algorithms without ``eps`` (default ``scaled`` for those with it).
+        Ignored for algorithms without ``eps`` (default: ``scaled`` for in-house
+        algorithms, not passed to plug-ins).
     families : sequence of str
         Generator families to draw from (default: every family for the algorithm's dim).
     max_examples : int

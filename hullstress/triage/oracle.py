@@ -141,7 +141,7 @@ def error_kind(row: ResultRow | Any) -> str:
 
 
 def same_failure(row: ResultRow | Any, signature: Signature, *, error: str | None = None) -> bool:
-    """True when ``row`` fails with ``signature``'s config and failed check (family ignored).
+    """True when ``row`` fails with ``signature``'s config, stage and failed check (family ignored).
 
     Parameters
     ----------
@@ -155,7 +155,8 @@ def same_failure(row: ResultRow | Any, signature: Signature, *, error: str | Non
     sig = signature_of(row)
     if sig is None or sig.check != signature.check:
         return False
-    if (sig.algorithm, sig.sphere, sig.eps) != (signature.algorithm, signature.sphere, signature.eps):
+    if (sig.algorithm, sig.sphere, sig.eps, sig.stage) != (signature.algorithm, signature.sphere, signature.eps,
+                                                            signature.stage):
         return False
     kind = error_kind(row)
     if kind == "internal":

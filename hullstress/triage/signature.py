@@ -1,12 +1,16 @@
 """Failure signatures: how two failing calls are judged to be "the same failure".
 
-A signature is (algorithm, sphere, eps, failed check, family).  The *failed
+A signature is (algorithm, sphere, eps, failed check, family, stage).  The
+stage (:class:`~hullstress.records.Stage`) keeps a failure of the sphere
+method or of the checker apart from the algorithm's own.  The *failed
 check* is
 
 * for status ``fail``: ``contract`` when the output broke the output contract
   (the row's reason starts with ``output contract:``), else the first failed
-  check in :data:`hullstress.verdict.CHECKS` order, else ``invalid-input``
-  (a hull returned for an input that should have been rejected);
+  check in :data:`hullstress.verdict.CHECKS` order, else ``collapsed`` (the
+  sphere method left too little of the input to map back: stage
+  ``preprocess``), else ``invalid-input`` (tables from before non-finite
+  input had its own rule: a hull returned for it);
 * for ``error``, ``timeout`` and ``crash``: the status itself.
 
 ``pass`` and ``rejected`` rows have no signature.
@@ -21,14 +25,14 @@ from dataclasses import dataclass
 from typing import Any
 
 from ..config import AlgorithmConfig
+from ..records import CONTRACT_REASON, METHOD_REASON, Stage
 from ..verdict import CHECKS
 
-__all__ = ["Signature", "failed_check", "signature_of", "FAILED_STATUSES"]
+__all__ = ["Signature", "failed_check", "signature_of", "stage_of", "FAILED_STATUSES"]
 
 #: Statuses that are failures of the code under test (``rejected`` is acceptable behaviour).
 FAILED_STATUSES = ("fail", "error", "timeout", "crash")
 
-_CONTRACT_PREFIX = "output contract:"
 _UNSAFE = re.compile(r"[^A-Za-z0-9._-]+")
 
 
@@ -71,13 +75,15 @@ def failed_check(status: str, reason: Any = "", failed_checks: Any = "") -> str 
         return None
     if status != "fail":
         return status
-    if _text(reason).startswith(_CONTRACT_PREFIX):
+    if _text(reason).startswith(CONTRACT_REASON):
         return "contract"
     checks = [c for c in _text(failed_checks).split(",") if c]
     if checks:
         # The first in report order, whatever order the cell lists them in.
         known = [c for c in CHECKS if c in checks]
         return known[0] if known else checks[0]
+    if _text(reason).startswith(METHOD_REASON):
+        return "collapsed"
     return "invalid-input"
 
 
@@ -93,12 +99,16 @@ class Signature:
         See :func:`failed_check`.
     family : str
         The generator family (``file`` for points files).
+    stage : str
+        The stage that failed (``algorithm``, ``preprocess`` or ``check``).
 
     Examples
     --------
     >>> s = Signature("gift-wrap", "on", "fixed", "containment", "coplanar-grid")
     >>> s.slug
     'gift-wrap__sphere-on__eps-fixed__containment__coplanar-grid'
+    >>> Signature("gift-wrap", "on", "fixed", "containment", "coplanar-grid", "preprocess").slug
+    'gift-wrap__sphere-on__eps-fixed__preprocess-containment__coplanar-grid'
     """
 
     algorithm: str
@@ -106,6 +116,7 @@ class Signature:
     eps: str
     check: str
     family: str
+    stage: str = Stage.ALGORITHM.value
 
     @property
     def config(self) -> AlgorithmConfig:
@@ -126,7 +137,8 @@ class Signature:
         """
         # "n/a" is the one standard value with an unsafe character: spell it "na" up front.
         eps = "na" if self.eps == "n/a" else self.eps
-        parts = (self.algorithm, f"sphere-{self.sphere}", f"eps-{eps}", self.check, self.family)
+        check = self.check if self.stage == Stage.ALGORITHM else f"{self.stage}-{self.check}"
+        parts = (self.algorithm, f"sphere-{self.sphere}", f"eps-{eps}", check, self.family)
         clean = [_UNSAFE.sub("-", p).strip("-.") or "x" for p in parts]
         slug = "__".join(clean)
         raw = "__".join(parts)
@@ -137,12 +149,13 @@ class Signature:
 
     @property
     def label(self) -> str:
-        """``alg[sphere=on,eps=fixed] containment on coplanar-grid``: for reports."""
-        return f"{self.config.label} {self.check} on {self.family}"
+        """``alg[sphere=on,eps=fixed] containment on coplanar-grid``: for reports (the stage when not the algorithm)."""
+        stage = "" if self.stage == Stage.ALGORITHM else f" (stage {self.stage})"
+        return f"{self.config.label} {self.check} on {self.family}{stage}"
 
     def as_dict(self) -> dict[str, str]:
         return {"algorithm": self.algorithm, "sphere": self.sphere, "eps": self.eps,
-                "check": self.check, "family": self.family}
+                "check": self.check, "family": self.family, "stage": self.stage}
 
 
 def signature_of(row: Mapping[str, Any] | Any) -> Signature | None:
@@ -161,4 +174,16 @@ def signature_of(row: Mapping[str, Any] | Any) -> Signature | None:
     check = failed_check(str(get("status")), get("reason", ""), get("failed_checks", ""))
     if check is None:
         return None
-    return Signature(str(get("algorithm")), str(get("sphere")), str(get("eps")), check, str(get("generator")))
+    return Signature(str(get("algorithm")), str(get("sphere")), str(get("eps")), check, str(get("generator")),
+                     stage_of(get("stage", "")))
+
+
+def stage_of(value: Any) -> str:
+    """A row's stage cell as a string; ``algorithm`` when missing (tables from before the stage column).
+
+    Examples
+    --------
+    >>> stage_of("preprocess"), stage_of(None), stage_of(float("nan"))
+    ('preprocess', 'algorithm', 'algorithm')
+    """
+    return _text(value) or Stage.ALGORITHM.value
