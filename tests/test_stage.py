@@ -9,7 +9,7 @@ import pytest
 from hullstress import get_generator
 from hullstress.case import Case
 from hullstress.config import AlgorithmConfig
-from hullstress.corpus import is_failure_signature, row_signature
+from hullstress.corpus.store import is_failure_signature, row_signature
 from hullstress.evaluate import evaluate
 from hullstress.records import Stage
 from hullstress.report.tables import failure_counts, status_counts
