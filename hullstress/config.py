@@ -12,6 +12,8 @@ library in).
 
 from __future__ import annotations
 
+import re
+
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
@@ -109,6 +111,28 @@ class AlgorithmConfig:
     @property
     def spec(self) -> AlgorithmSpec:
         return get_algorithm(self.algorithm)
+
+    @classmethod
+    def from_label(cls, label: str) -> "AlgorithmConfig":
+        """The config whose :attr:`label` is ``label``.
+
+        Examples
+        --------
+        >>> AlgorithmConfig.from_label("gift-wrap-3d[sphere=on,eps=fixed]")
+        AlgorithmConfig(algorithm='gift-wrap-3d', sphere='on', eps='fixed')
+        >>> AlgorithmConfig.from_label("gift-wrap-3d")
+        Traceback (most recent call last):
+        ...
+        hullstress.errors.UsageError: not a config label (name[sphere=...,eps=...]): 'gift-wrap-3d'
+        """
+        match = _LABEL.match(label)
+        if match is None:
+            raise UsageError(f"not a config label (name[sphere=...,eps=...]): {label!r}")
+        return cls(match["algorithm"], match["sphere"], match["eps"])
+
+
+#: How :attr:`AlgorithmConfig.label` spells a config.
+_LABEL = re.compile(r"^(?P<algorithm>.+)\[sphere=(?P<sphere>[^,\]]+),eps=(?P<eps>[^\]]+)\]$")
 
 
 def _choices(value: str, allowed: Sequence[str], option: str) -> tuple[str, ...]:

@@ -44,7 +44,7 @@ def _replayed(directory: Path, workers: int) -> Any:
 
     key = (str(directory.resolve()), workers)
     if key not in _CACHE:
-        _CACHE[key] = replay_corpus(directory, workers=workers)
+        _CACHE[key] = replay_corpus(directory, workers=workers, recorded_only=True)
     return _CACHE[key]
 
 

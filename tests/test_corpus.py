@@ -169,3 +169,29 @@ def test_baseline_from_corpus_and_bad_paths(tmp_path):
     (tmp_path / "x.txt").write_text("hi")
     with pytest.raises(UsageError, match="expected a run folder"):
         load_baseline(tmp_path / "x.txt")
+
+
+def test_replay_of_recorded_configs_ignores_algorithms_registered_later(tmp_path):
+    """The pytest plug-in replays what each entry recorded; a session's own plug-ins are no regression."""
+    from hullstress.config import AlgorithmConfig
+    from hullstress.corpus.replay import replay_corpus
+    from hullstress.corpus.store import CorpusEntry, save_entry
+    from hullstress.registry import ALGORITHMS, register_algorithm
+
+    case = Case.from_points([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [0.2, 0.2]], family="test")
+    recorded = AlgorithmConfig("monotone-chain", "off", "scaled")
+    save_entry(tmp_path, CorpusEntry(case=case, expectations={recorded.label: "pass"}, provenance={"family": "test"}))
+
+    @register_algorithm("test-corpus-always-wrong", dim=2)
+    def always_wrong(points):
+        return [0, 1]
+
+    try:
+        everything = replay_corpus(tmp_path, workers=0)
+        recorded_only = replay_corpus(tmp_path, workers=0, recorded_only=True)
+    finally:
+        ALGORITHMS.remove("test-corpus-always-wrong")
+    assert "test-corpus-always-wrong[sphere=off,eps=n/a]" in set(everything.table["config"])
+    assert (everything.table["outcome"] == "new-failure").any()
+    assert list(recorded_only.table["config"]) == [recorded.label]
+    assert list(recorded_only.table["outcome"]) == ["ok"]

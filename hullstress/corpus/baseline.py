@@ -10,18 +10,17 @@ expectations).
 from __future__ import annotations
 
 import os
-import re
 from pathlib import Path
 
 import pandas as pd
 
+from ..config import AlgorithmConfig
 from ..errors import CorpusError, UsageError
 from .store import is_failure_signature, iter_corpus, row_signature
 
 __all__ = ["GROUP_KEYS", "failure_groups", "load_baseline", "compare_with_baseline"]
 
 GROUP_KEYS = ("algorithm", "sphere", "eps", "generator", "signature")
-_LABEL = re.compile(r"^(?P<algorithm>.+)\[sphere=(?P<sphere>on|off),eps=(?P<eps>[^\]]+)\]$")
 
 
 def failure_groups(table: pd.DataFrame) -> pd.DataFrame:
@@ -39,9 +38,12 @@ def _from_corpus(path: Path) -> pd.DataFrame:
         if isinstance(item, CorpusError):
             raise UsageError(f"--baseline: {item}")
         for label, signature in item.expectations.items():
-            m = _LABEL.match(label)
-            if m and is_failure_signature(signature):
-                records.append({**m.groupdict(), "generator": item.case.family, "signature": signature, "calls": 1})
+            try:
+                config = AlgorithmConfig.from_label(label)
+            except UsageError:
+                continue
+            if is_failure_signature(signature):
+                records.append({"algorithm": config.algorithm, "sphere": config.sphere, "eps": config.eps, "generator": item.case.family, "signature": signature, "calls": 1})
     df = pd.DataFrame.from_records(records, columns=list(GROUP_KEYS) + ["calls"])
     return df.groupby(list(GROUP_KEYS), observed=True)["calls"].sum().reset_index() if len(df) else df
 

@@ -65,8 +65,12 @@ class ReplayResult:
         return counts.reset_index()
 
 
-def _configs_for(entry: CorpusEntry, configs_by_dim: dict[int, list[AlgorithmConfig]]) -> tuple[AlgorithmConfig, ...]:
-    return tuple(configs_by_dim.get(entry.case.dim, []))
+def _configs_for(entry: CorpusEntry, configs_by_dim: dict[int, list[AlgorithmConfig]],
+                 recorded_only: bool) -> tuple[AlgorithmConfig, ...]:
+    configs = configs_by_dim.get(entry.case.dim, [])
+    if recorded_only:
+        return tuple(c for c in configs if c.label in entry.expectations)
+    return tuple(configs)
 
 
 def replay_entries(
@@ -76,6 +80,7 @@ def replay_entries(
     workers: int = 0,
     timeout: float = DEFAULTS.call_timeout,
     accept: bool = False,
+    recorded_only: bool = False,
 ) -> ReplayResult:
     """Replay ``entries`` and classify every (entry, config) pair.
 
@@ -90,10 +95,14 @@ def replay_entries(
         Per-call timeout when isolated.
     accept : bool
         Record the current signatures as the new expectations (after a fix).
+    recorded_only : bool
+        Replay only the configs an entry has an expectation for (the pytest
+        plug-in does: other tests of a session may register algorithms of
+        their own, which are no regression of the corpus).
     """
     specs = [get_algorithm(n) for n in algorithm_names] if algorithm_names else algorithms()
     configs_by_dim = {d: expand_configs([s for s in specs if s.dim == d]) for d in (2, 3)}
-    tasks = [Task(index=i, case=e.case, configs=_configs_for(e, configs_by_dim)) for i, e in enumerate(entries)]
+    tasks = [Task(index=i, case=e.case, configs=_configs_for(e, configs_by_dim, recorded_only)) for i, e in enumerate(entries)]
     tasks = [t for t in tasks if t.configs]
     rows: list[ResultRow] = []
     execute(tasks, RunnerOptions(workers=workers, timeout=timeout, qhull=True), rows.append)
