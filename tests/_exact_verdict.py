@@ -227,7 +227,7 @@ class ExactVerdict:
     """What DESIGN.md says about one hull, decided exactly."""
 
     containment: bool
-    convexity: bool
+    convexity: bool | None  # None: decided by the checker's choice of interior point
     manifoldness: bool
     qhull_agreement: bool | None
     severity: str
@@ -241,7 +241,7 @@ class ExactVerdict:
 
     @property
     def ok(self) -> bool:
-        return self.containment and self.convexity and self.manifoldness
+        return bool(self.containment and self.convexity and self.manifoldness)
 
     @property
     def failed(self) -> list[str]:
@@ -390,23 +390,32 @@ def verdict3(points, faces, reference=None) -> ExactVerdict:
     else:
         convex = False
         notes.append("the surface's vertices are flat")
-    flipped = 0
+    flipped = ambiguous = 0
+    above_cut = False
     if interior is not None:
         worst = Fraction(0)
         for n, a in planes.values():
+            sides = {sign(dot(n, sub(p, a))) for p in vpts}
             s = dot(n, sub(interior, a))
+            if not (sides <= {0, 1} or sides <= {0, -1}):
+                # The plane cuts the vertices' hull: below some interior points, above others.
+                ambiguous += 1
+                above_cut = above_cut or s >= 0
+                continue
             if s >= 0:
                 flipped += 1
                 worst = max(worst, s * s / dot(n, n))
         if flipped:
             convex = False
             mags["flipped"] = _sqrt_ratio(worst, dr)
-    degree = None
-    if convex and manifold and interior is not None:
+    if convex and manifold and interior is not None and not above_cut:
+        # Every interior point strictly below every face has the same degree (they form
+        # one convex region off the surface), so this decides even with cut planes.
         degree = _degree3(pts, faces, interior)
         if degree != 1:
             convex = False
             notes.append(f"wraps {degree} times")
+    convex = _settle(convex, ambiguous, notes)
 
     # Containment: every input point against every face plane.
     outside = set()
@@ -426,6 +435,23 @@ def verdict3(points, faces, reference=None) -> ExactVerdict:
         "n_nonconvex_edges": len(reflex_edges),
         "n_faces": len(faces),
     }, Fraction(vol6, 6), dr, reference)
+
+
+def _settle(convex, ambiguous: int, notes: list[str]):
+    """Convexity, or None when it rests on the choice of the interior point.
+
+    DESIGN.md asks for *one* interior point strictly below every face; a face whose
+    plane cuts the hull of the surface's vertices is below some interior points and
+    above others, so whether it is reported depends on the checker's choice.  When
+    such faces are the only possible convexity failure (and the degree test from an
+    interior point below them all found nothing) the verdict is not decided here.
+    (When convexity fails anyway, the checker's choice can only add a ``flipped``
+    magnitude: the severity is taken from the decided violations.)
+    """
+    if ambiguous and convex:
+        notes.append(f"interior-point dependent: {ambiguous} faces cut the vertices' hull")
+        return None
+    return convex
 
 
 def _degree3(pts, faces, c) -> int:
@@ -509,22 +535,29 @@ def verdict2(points, poly, reference=None) -> ExactVerdict:
         notes.append("the polygon's vertices are collinear")
     if interior is not None:
         worst = Fraction(0)
-        flipped = 0
+        flipped = ambiguous = 0
+        above_cut = False
         for a, b in edges:
             if a == b:
                 continue
+            sides = {turn(a, b, p) for p in distinct}
             s = (b[0] - a[0]) * (interior[1] - a[1]) - (b[1] - a[1]) * (interior[0] - a[0])
+            if not (sides <= {0, 1} or sides <= {0, -1}):
+                ambiguous += 1  # the edge's line cuts the vertices' hull
+                above_cut = above_cut or s <= 0
+                continue
             if s <= 0:
                 flipped += 1
                 worst = max(worst, s * s / dot(sub(b, a), sub(b, a)))
         if flipped:
             convex = False
             mags["flipped"] = _sqrt_ratio(worst, dr)
-        if convex:
+        if convex and not above_cut:
             wind = _winding(ring, interior)
             if wind != 1:
                 convex = False
                 notes.append(f"winds {wind} times")
+        convex = _settle(convex, ambiguous, notes)
 
     outside = set()
     worst = Fraction(0)
@@ -584,7 +617,7 @@ def _finish(points, pts, faces, verts, manifold, convex, contained, mags, notes,
     counts["affine_rank"] = rank
     counts["n_hull_vertices"] = len(verts)
     vcoords = {pts[v] for v in verts}
-    certified = manifold and convex and contained
+    certified = bool(manifold and convex and contained)
     agreement = None
     if rank == dim:
         hull = true_hull(pts)
@@ -614,7 +647,9 @@ def _finish(points, pts, faces, verts, manifold, convex, contained, mags, notes,
                 notes.append("volume difference within a factor 2 of the tolerance")
     failed = not certified or agreement is False
     worst = max(mags.values(), default=0.0)
-    if not failed:
+    if any(n.startswith("interior-point dependent") for n in notes) and manifold:
+        severity = "unknown"  # the checker's interior point decides a magnitude or a check
+    elif not failed:
         severity = "none"
     elif not manifold or worst > ROUNDOFF:
         severity = "gross"
@@ -623,7 +658,7 @@ def _finish(points, pts, faces, verts, manifold, convex, contained, mags, notes,
     if failed and manifold and 0.5 * ROUNDOFF < worst < 2 * ROUNDOFF:
         notes.append("severity within a factor 2 of the roundoff threshold")
     return ExactVerdict(
-        bool(contained), bool(convex), bool(manifold), agreement, severity, mags, counts, notes,
+        bool(contained), None if convex is None else bool(convex), bool(manifold), agreement, severity, mags, counts, notes,
         volume=volume, vertex_coords=vcoords, surface_area=_surface_area(pts, faces),
         qhull_ok=None if reference is None else reference.ok,
     )

@@ -70,7 +70,8 @@ def test_checker_gives_the_recorded_verdict(entry):
     expect = entry["expect"]
     v = check(np.array(entry["points"], dtype=np.float64), entry["faces"], qhull=entry.get("qhull", True))
     context = f"{entry['about']}: {v.detail}"
-    assert list(v.failed_checks) == expect["failed"], context
+    undecided = expect.get("undecided", [])  # the checker's interior point decides these
+    assert [c for c in v.failed_checks if c not in undecided] == expect["failed"], context
     assert v.severity == expect["severity"], context
     for word in expect["reason"]:
         assert word in v.detail, f"{word!r} not in the reason: {context}"
@@ -85,6 +86,7 @@ def test_recorded_verdict_is_exact(entry):
     expect = entry["expect"]
     e = exact_verdict(entry["points"], entry["faces"], qhull=entry.get("qhull", True))
     assert e.failed == expect["failed"], e.notes
+    assert (e.convexity is None) == ("convexity" in expect.get("undecided", []))
     assert e.severity == expect["severity"], e.magnitudes
     assert {k: e.counts[k] for k in expect["counts"]} == expect["counts"]
     assert e.qhull_ok == expect["qhull_ok"]

@@ -121,6 +121,7 @@ def add(kind: str, id: str, points, faces, failed, about: str, reason=(), *, sev
         assert e.severity == severity, f"{id}: intent {severity}, exact verdict {e.severity} ({e.magnitudes})"
     close = [n for n in e.notes if "factor 2" in n]
     assert not close, f"{id}: too close to a threshold to be a stable expectation: {close}"
+    assert e.severity != "unknown", f"{id}: the severity depends on the checker's interior point"
     expect = {
         "failed": e.failed,
         "severity": e.severity,
@@ -131,6 +132,11 @@ def add(kind: str, id: str, points, faces, failed, about: str, reason=(), *, sev
     entry = {"id": id, "about": about, "dim": len(pts[0]), "points": pts, "faces": faces, "expect": expect}
     if not qhull:
         entry["qhull"] = False
+    if e.convexity is None:
+        # A face plane cuts the surface's vertices: DESIGN.md's "one interior point below
+        # every facet" holds for some interior points and not others, so convexity is
+        # the checker's choice here and not part of the expectation.
+        expect["undecided"] = ["convexity"]
     if xfail:
         entry["xfail"] = xfail
     ids = {x["id"] for entries in CORPUS.values() for x in entries}
