@@ -54,6 +54,23 @@ def function_of(mutant: str) -> str:
     return f"{module}.{mangled}"
 
 
+def change_of(removed: str, added: str, context: int = 20) -> str:
+    """The differing middle of two lines with a little context: ``...a > b...`` -> ``...a >= b...``."""
+    start = 0
+    while start < min(len(removed), len(added)) and removed[start] == added[start]:
+        start += 1
+    end = 0
+    while end < min(len(removed), len(added)) - start and removed[-1 - end] == added[-1 - end]:
+        end += 1
+    lo = max(0, start - context)
+
+    def middle(text: str) -> str:
+        hi = len(text) - max(0, end - context)
+        return ("..." if lo else "") + text[lo:hi] + ("..." if hi < len(text) else "")
+
+    return f"`{middle(removed)}` -> `{middle(added)}`".replace("|", "\\|")
+
+
 def load_reasons() -> list[dict]:
     return tomllib.loads(REASONS.read_text())["survivor"]
 
@@ -112,7 +129,7 @@ def main(argv: list[str] | None = None) -> int:
     lines += ["", f"{len(survivors)} survivors, {len(unexplained)} without a recorded reason.", ""]
     lines += ["| mutant | change | why it may survive |", "| --- | --- | --- |"]
     for s in sorted(survivors, key=lambda s: (s.reason is not None, s.name)):
-        change = f"`{s.removed[:70]}` -> `{s.added[:70]}`".replace("|", "\\|")
+        change = change_of(s.removed, s.added)
         lines.append(f"| {s.name.replace('hullstress.', '')} ({s.status}) | {change} | {s.reason or '**UNEXPLAINED**'} |")
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text("\n".join(lines) + "\n")
