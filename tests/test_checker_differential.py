@@ -62,6 +62,9 @@ def test_checker_matches_the_exact_verdict(dim, ints, scale, op, where, toward):
         faces.append(faces[k])
     elif op == "ulp":
         v = faces[k] if dim == 2 else faces[k][0]
+        # A subnormal beside ~1e300 coordinates crashes Qhull inside the checker: pinned by
+        # the xfail corpus entry huge-with-subnormal-coordinate, kept out of this process.
+        assume(not (scale > 1 and pts[v, where % dim] == 0))
         pts[v, where % dim] = np.nextafter(pts[v, where % dim], toward)
     elif op == "wrong-vertex" and dim == 3:
         faces[k] = [faces[k][0], faces[k][1], where % n]

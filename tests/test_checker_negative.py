@@ -20,6 +20,8 @@ to fail (strictly) until the checker is fixed.
 from __future__ import annotations
 
 import json
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -65,10 +67,37 @@ def test_every_check_has_wrong_and_right_entries():
     assert {3, 4, 5, 6, 8} <= sizes
 
 
+_ISOLATED = """
+import json, sys
+import numpy as np
+from hullstress.checker import check
+entry = json.load(sys.stdin)
+v = check(np.array(entry["points"], dtype=np.float64), entry["faces"], qhull=entry.get("qhull", True))
+print(json.dumps(dict(v.as_row(), detail=v.detail, failed=list(v.failed_checks))))
+"""
+
+
+class _Row:
+    """A verdict read back from a subprocess, with the attributes the test asks for."""
+
+    def __init__(self, row: dict):
+        self.__dict__.update(row)
+        self.failed_checks = tuple(row["failed"])
+
+
+def _check(entry):
+    if not entry.get("isolate"):
+        return check(np.array(entry["points"], dtype=np.float64), entry["faces"], qhull=entry.get("qhull", True))
+    # An input that kills the checker's process: judge it in a child, and report how it died.
+    proc = subprocess.run([sys.executable, "-c", _ISOLATED], input=json.dumps(entry), capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, f"the checker died (exit status {proc.returncode}): {proc.stderr.strip()[-300:]}"
+    return _Row(json.loads(proc.stdout))
+
+
 @pytest.mark.parametrize("entry", _params(ENTRIES))
 def test_checker_gives_the_recorded_verdict(entry):
     expect = entry["expect"]
-    v = check(np.array(entry["points"], dtype=np.float64), entry["faces"], qhull=entry.get("qhull", True))
+    v = _check(entry)
     context = f"{entry['about']}: {v.detail}"
     undecided = expect.get("undecided", [])  # the checker's interior point decides these
     assert [c for c in v.failed_checks if c not in undecided] == expect["failed"], context

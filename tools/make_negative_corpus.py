@@ -543,6 +543,34 @@ def qhull_agreement():
             "a cube with a vertex on an edge (in two faces) and one on a face: both allowed, counted, not extreme")
 
 
+def crashes():
+    """Inputs on which the checker itself dies: run in a subprocess by the test."""
+    ints = [[-2, -1, 3], [-2, 3, -1], [-2, -4, 3], [4, -3, 1], [1, -2, 3], [4, 0, 0], [-3, 3, 1],
+            [-2, 3, -4], [4, -4, 4], [1, -4, 1]]
+    from scipy.spatial import ConvexHull
+
+    small = np.array(ints, dtype=np.float64)
+    pts = small * 2.0**990
+    ints_exact = [tuple(int(x) for x in p) for p in ints]
+    centre = tuple(sum(p[i] for p in ints_exact) for i in range(3))
+    faces = []
+    for a, b, c in ConvexHull(small).simplices.tolist():
+        pa, pb, pc = (np.array(ints_exact[i]) for i in (a, b, c))
+        up = np.dot(np.cross(pb - pa, pc - pa), np.array(centre) - len(ints) * pa) > 0
+        faces.append([a, c, b] if up else [a, b, c])
+    pts[5, 1] = np.nextafter(0.0, -np.inf)  # (4, 0, 0) * 2**990 with y one ulp below 0: -5e-324
+    e = exact_verdict(pts.tolist(), faces, qhull=False)
+    entry = add("qhull_agreement", "huge-with-subnormal-coordinate", pts, faces, e.failed,
+                "Qhull's hull of ten points at ~1e298, one zero coordinate moved one ulp to -5e-324",
+                qhull=False,
+                xfail="checker bug: exact_scale refuses to rescale (the subnormal would round), so "
+                      "qhull_reference runs Qhull on the raw ~1e298 coordinates and Qhull dies with SIGSEGV")
+    entry["qhull"] = True  # the crash is in Qhull's reference: the test runs it, in a subprocess
+    entry["isolate"] = True
+    entry["expect"]["undecided"] = ["qhull_agreement"]
+    entry["expect"]["qhull_ok"] = None
+
+
 # --------------------------------------------------------------------------- affine rank
 
 
@@ -583,7 +611,7 @@ def affine_rank():
 
 
 def main() -> None:
-    for build in (containment, convexity, manifoldness, polygon2d, qhull_agreement, affine_rank):
+    for build in (containment, convexity, manifoldness, polygon2d, qhull_agreement, crashes, affine_rank):
         build()
     OUT.mkdir(parents=True, exist_ok=True)
     for kind, entries in CORPUS.items():
