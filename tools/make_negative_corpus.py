@@ -477,6 +477,22 @@ def polygon2d():
             if not np.array_equal(out, base):
                 add("polygon2d", f"{k}gon-ulp-extreme-{tag}", out, with_mid, [],
                     f"that edge vertex one ulp outward: a convex {k + 1}-gon")
+    # Simple but not convex (an arrowhead: boxes of opposite edges touch, the edges do not),
+    # and a polygon whose vertex lands exactly on a non-adjacent edge (touching, not simple).
+    for orient, scale, tag in variants():
+        if scale == "tiny" and orient == "axis":
+            continue
+        dart = place([(0, 0), (16, 8), (0, 16), (4, 8)], orient, scale)
+        add("polygon2d", f"arrowhead-{tag}", dart, [0, 1, 2, 3], exact_verdict(dart.tolist(), [0, 1, 2, 3]).failed,
+            "a simple arrowhead: one reflex vertex, no edges meeting", ["reflex vertices"], severity="gross")
+        square = place([(0, 0), (16, 0), (16, 16), (0, 16), (8, 0)], orient, scale)
+        touch = [0, 1, 2, 4, 3]
+        add("polygon2d", f"vertex-on-edge-{tag}", square, touch, exact_verdict(square.tolist(), touch).failed,
+            "a pentagon whose vertex (8, 0) lies on its own bottom edge: it touches itself",
+            ["touching or crossing"], severity="gross")
+        rotated = touch[2:] + touch[:2]  # both edges at the touching vertex now come before the edge it touches
+        add("polygon2d", f"vertex-on-edge-rotated-{tag}", square, rotated, exact_verdict(square.tolist(), rotated).failed,
+            "the same pentagon listed from the touching vertex", ["touching or crossing"], severity="gross")
     # A star polygon: every turn left, the centre left of every edge, winding twice.
     ring7 = [(16, 0), (28, 6), (32, 18), (24, 30), (8, 30), (0, 18), (4, 6)]
     for orient, scale, tag in variants():
