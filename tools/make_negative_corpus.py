@@ -490,6 +490,22 @@ def polygon2d():
         add("polygon2d", f"vertex-on-edge-{tag}", square, touch, exact_verdict(square.tolist(), touch).failed,
             "a pentagon whose vertex (8, 0) lies on its own bottom edge: it touches itself",
             ["touching or crossing"], severity="gross")
+        # An edge whose end lies on the extension of a non-adjacent edge, boxes overlapping:
+        # they do not meet (simple, not convex).
+        near = place([(0, 0), (8, 0), (8, -8), (16, -8), (10, 0), (6, 4), (0, 8)], orient, scale)
+        add("polygon2d", f"end-on-extension-{tag}", near, list(range(7)), exact_verdict(near.tolist(), list(range(7))).failed,
+            "edge (10, 0)-(6, 4) starts on the line of edge (0, 0)-(8, 0), beyond its end: no contact",
+            ["reflex vertices"], severity="gross")
+        mirror = place([(-x, y) for x, y in [(0, 0), (8, 0), (8, -8), (16, -8), (10, 0), (6, 4), (0, 8)]], orient, scale)
+        ring = [1, 0, 6, 5, 4, 3, 2]  # mirrored, listed so the edge now *ends* on that line
+        add("polygon2d", f"end-on-extension-mirrored-{tag}", mirror, ring, exact_verdict(mirror.tolist(), ring).failed,
+            "the same, mirrored: an edge ends on the line of an earlier edge, beyond its end",
+            ["reflex vertices"], severity="gross")
+        # Two non-adjacent edges on one line but apart: they do not meet (a simple U).
+        u = place([(0, 0), (4, 0), (4, 8), (12, 8), (12, 0), (16, 0), (16, 16), (0, 16)], orient, scale)
+        add("polygon2d", f"u-shape-{tag}", u, list(range(8)), exact_verdict(u.tolist(), list(range(8))).failed,
+            "a U: its two bottom edges are collinear and apart (simple, not convex)", ["reflex vertices"],
+            severity="gross")
         rotated = touch[2:] + touch[:2]  # both edges at the touching vertex now come before the edge it touches
         add("polygon2d", f"vertex-on-edge-rotated-{tag}", square, rotated, exact_verdict(square.tolist(), rotated).failed,
             "the same pentagon listed from the touching vertex", ["touching or crossing"], severity="gross")
