@@ -214,6 +214,7 @@ def register_algorithm(name: str, *, dim: int) -> Callable[[Callable[..., Any]],
     ...     if len(points) != 3:
     ...         raise ValueError("need exactly 3 points")
     ...     return [0, 1, 2]
+    >>> ALGORITHMS.remove("doc-example-triangle")  # keep the registry as it was
     """
     if not isinstance(name, str) or not name.strip():
         raise UsageError(f"algorithm name must be a non-empty string, got {name!r}")

@@ -6,12 +6,12 @@ register itself cheaply, and a worker process starts fast.  The registries
 themselves live in :mod:`hullstress._registry`; this module is their public face.
 
 >>> from hullstress.registry import register_algorithm
->>> @register_algorithm("doc-example-triangle", dim=2)
+>>> @register_algorithm("doc-registry-triangle", dim=2)
 ... def triangle(points):
 ...     '''The first three points, whatever the input (wrong on purpose).'''
 ...     return [0, 1, 2]
 >>> from hullstress.registry import ALGORITHMS
->>> ALGORITHMS.remove("doc-example-triangle")
+>>> ALGORITHMS.remove("doc-registry-triangle")
 """
 
 from ._registry import (
