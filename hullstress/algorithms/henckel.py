@@ -440,7 +440,7 @@ def henckel_hull(points: np.ndarray, /, *, eps: float | None = None, seed: int =
 def henckel_normalised_hull(
     points: np.ndarray, /, *, eps: float | None = None, seed: int = 0
 ) -> list[list[int]]:
-    """Henckel's hull with the sort key divided by |P - B| (a named improvement on the seed).
+    """Henckel's hull with the sort key divided by the length of P - B (a named improvement on the seed).
 
     Parameters, returns and errors as :func:`henckel_hull`; only step 10
     differs: ``B`` first, then the face's other points by ascending
