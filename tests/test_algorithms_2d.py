@@ -12,6 +12,7 @@ the algorithms make of them is recorded, not judged.
 
 from __future__ import annotations
 
+import doctest
 import math
 from fractions import Fraction
 
@@ -26,6 +27,7 @@ from hullstress.contract import normalize_polygon
 from hullstress.errors import AlgorithmStepLimit
 from hullstress.tolerance import tolerance
 from hullstress.algorithms import jarvis, naive2d
+from hullstress.algorithms import monotone_chain as monotone_chain_module
 from hullstress.algorithms.jarvis import jarvis_march, jarvis_march_sorted
 from hullstress.algorithms.monotone_chain import monotone_chain
 from hullstress.algorithms.naive2d import accepted_edges, naive_2d
@@ -554,3 +556,10 @@ def test_kettner_cases_run_to_an_end(case, name, policy, record_property):
         record_property("outcome", f"returned {out.tolist()}")
     except (ValueError, AlgorithmStepLimit) as exc:
         record_property("outcome", f"{type(exc).__name__}: {exc}")
+
+
+@pytest.mark.parametrize("module", [jarvis, monotone_chain_module, naive2d], ids=lambda m: m.__name__.rsplit(".", 1)[-1])
+def test_docstring_examples_run_as_printed(module):
+    # The examples document the seed's behaviour, weak spots included.
+    result = doctest.testmod(module, optionflags=doctest.ELLIPSIS, verbose=False)
+    assert result.attempted > 0 and result.failed == 0

@@ -20,6 +20,7 @@ documented outcome set, never one trajectory.
 
 from __future__ import annotations
 
+import doctest
 import itertools
 import time
 from collections import Counter
@@ -558,3 +559,10 @@ def test_degenerate_input_ends_as_documented(case, name):
             got = "faces"
     assert got in allowed[name], f"{case}: {name} ended with {got}, documented {sorted(allowed[name])}"
     assert time.perf_counter() - start < 20.0
+
+
+@pytest.mark.parametrize("module", [henckel], ids=lambda m: m.__name__.rsplit(".", 1)[-1])
+def test_docstring_examples_run_as_printed(module):
+    # The examples document the seed's behaviour, weak spots included.
+    result = doctest.testmod(module, optionflags=doctest.ELLIPSIS, verbose=False)
+    assert result.attempted > 0 and result.failed == 0

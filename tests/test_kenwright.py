@@ -12,6 +12,7 @@ mapping's culling of true hull vertices (a flaw of the sphere variant).
 
 from __future__ import annotations
 
+import doctest
 import itertools
 
 import numpy as np
@@ -347,3 +348,10 @@ _TETRA = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]])
 def test_bad_calls(points, kwargs, match):
     with pytest.raises(ValueError, match=match):
         kenwright_hull(points, **kwargs)
+
+
+@pytest.mark.parametrize("module", [kenwright], ids=lambda m: m.__name__.rsplit(".", 1)[-1])
+def test_docstring_examples_run_as_printed(module):
+    # The examples document the seed's behaviour, weak spots included.
+    result = doctest.testmod(module, optionflags=doctest.ELLIPSIS, verbose=False)
+    assert result.attempted > 0 and result.failed == 0

@@ -96,6 +96,7 @@ import numpy as np
 from .._registry import register_algorithm
 from ..errors import AlgorithmStepLimit
 from ..tolerance import tolerance
+from ._variant import SeedVariant
 
 __all__ = ["gift_wrap_3d", "gift_wrap_3d_dedup"]
 
@@ -297,19 +298,12 @@ def _pop_limit(n: int) -> int:
     return 8 * n * n + 100
 
 
-@dataclass(frozen=True)
-class _Variant:
-    """Whether a run adds a re-found triangle again, and the registry name its messages carry."""
-
-    name: str
-    dedup: bool
+#: Every found triangle added, as written; and a re-found triangle not added again (the improvement).
+LITERAL = SeedVariant("gift-wrap-3d", improved=False)
+DEDUP = SeedVariant("gift-wrap-3d-dedup", improved=True)
 
 
-LITERAL = _Variant("gift-wrap-3d", dedup=False)
-DEDUP = _Variant("gift-wrap-3d-dedup", dedup=True)
-
-
-def _gift_wrap_trace(pts: np.ndarray, eps: float, variant: _Variant = LITERAL) -> GiftWrapTrace:
+def _gift_wrap_trace(pts: np.ndarray, eps: float, variant: SeedVariant = LITERAL) -> GiftWrapTrace:
     """Run steps 1-4 on validated points and record what happened."""
     n = len(pts)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
@@ -359,7 +353,7 @@ def _gift_wrap_trace(pts: np.ndarray, eps: float, variant: _Variant = LITERAL) -
             key = _rotation_key(a, b, c)
             if key in built:
                 refound += 1
-                if variant.dedup:
+                if variant.improved:
                     continue
             built.add(key)
             triangles.append((a, b, c))
@@ -375,7 +369,7 @@ def _gift_wrap_trace(pts: np.ndarray, eps: float, variant: _Variant = LITERAL) -
     )
 
 
-def _run(points: np.ndarray, eps: float | None, variant: _Variant) -> np.ndarray:
+def _run(points: np.ndarray, eps: float | None, variant: SeedVariant) -> np.ndarray:
     """Validate, then run steps 1-4; the triangles the array holds at the end."""
     pts = _checked_points(points, variant.name, 3)
     return _gift_wrap_trace(pts, _checked_eps(pts, eps, variant.name), variant).triangles

@@ -110,6 +110,7 @@ import numpy as np
 
 from .._registry import register_algorithm
 from ..errors import AlgorithmStepLimit
+from ._variant import SeedVariant
 from .gift_wrap import _checked_eps, _checked_points
 
 __all__ = ["henckel_hull", "henckel_normalised_hull"]
@@ -117,16 +118,9 @@ __all__ = ["henckel_hull", "henckel_normalised_hull"]
 _MAX_DRAWS = 1000
 
 
-@dataclass(frozen=True)
-class _Variant:
-    """Which step-10 sort key a run uses, and the registry name its messages carry."""
-
-    name: str
-    normalised: bool
-
-
-LITERAL = _Variant("henckel", normalised=False)
-NORMALISED = _Variant("henckel-normalised", normalised=True)
+#: Step 10 as written, and with the sort key divided by |P - B| (the improvement).
+LITERAL = SeedVariant("henckel", improved=False)
+NORMALISED = SeedVariant("henckel-normalised", improved=True)
 
 
 @dataclass(frozen=True)
@@ -254,7 +248,7 @@ def _sort_face(q: np.ndarray, ab: np.ndarray, members: np.ndarray, b: int, norma
 
 @np.errstate(divide="ignore", invalid="ignore", over="ignore")  # 0/0 -> NaN is the seed's behaviour
 def _find_face(
-    pts: np.ndarray, a: int, b: int, eps: float, max_pivots: int, variant: _Variant = LITERAL
+    pts: np.ndarray, a: int, b: int, eps: float, max_pivots: int, variant: SeedVariant = LITERAL
 ) -> tuple[list[int], int]:
     """Steps 5-10 for the edge ``(a, b)``: the face in the seed's order, and the pivots taken."""
     n = len(pts)
@@ -302,7 +296,7 @@ def _find_face(
         break
     on_plane = np.abs(dist) <= tol
     on_plane[[a, b, c]] = True
-    return _sort_face(q, ab, np.flatnonzero(on_plane), b, variant.normalised), pivots
+    return _sort_face(q, ab, np.flatnonzero(on_plane), b, variant.improved), pivots
 
 
 def _pivot_limit(n: int) -> int:
@@ -316,7 +310,7 @@ def _face_limit(n: int) -> int:
 
 
 def _henckel_trace(
-    pts: np.ndarray, eps: float, rng: np.random.Generator, variant: _Variant = LITERAL
+    pts: np.ndarray, eps: float, rng: np.random.Generator, variant: SeedVariant = LITERAL
 ) -> HenckelTrace:
     """Run the seed's algorithm on validated points and record what happened."""
     n = len(pts)
@@ -364,7 +358,7 @@ def _henckel_trace(
     )
 
 
-def _run(points: np.ndarray, eps: float | None, seed: int, variant: _Variant) -> list[list[int]]:
+def _run(points: np.ndarray, eps: float | None, seed: int, variant: SeedVariant) -> list[list[int]]:
     """Validate, run, and turn the seed's clockwise lists into counter-clockwise polygons."""
     pts = _checked_points(points, variant.name, 3)
     trace = _henckel_trace(pts, _checked_eps(pts, eps, variant.name), np.random.default_rng(seed), variant)

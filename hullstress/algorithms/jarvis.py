@@ -93,13 +93,13 @@ same order, on the same float values.  Where changes come thick and fast
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
 from .._registry import register_algorithm
 from ..errors import AlgorithmStepLimit
 from ._predicates2d import as_points_2d, resolve_eps
+from ._variant import SeedVariant
 
 __all__ = ["jarvis_march", "jarvis_march_sorted"]
 
@@ -109,16 +109,9 @@ _DENSE = 16  # a change this close to the window start: changes are dense here..
 _SCALAR_RUN = 128  # ...so scan this many points in plain Python before trying numpy again
 
 
-@dataclass(frozen=True)
-class _Variant:
-    """Whether each iteration's collinear points are sorted by distance, and the registry name."""
-
-    name: str
-    sort_collinear: bool
-
-
-LITERAL = _Variant("jarvis-march", sort_collinear=False)
-SORTED = _Variant("jarvis-march-sorted", sort_collinear=True)
+#: The result set in insertion order, as written; and collinear points sorted by distance (the improvement).
+LITERAL = SeedVariant("jarvis-march", improved=False)
+SORTED = SeedVariant("jarvis-march-sorted", improved=True)
 
 
 def _leftmost(x: np.ndarray) -> int:
@@ -225,13 +218,13 @@ def _wrap(pts: np.ndarray, eps: float, name: str = LITERAL.name) -> tuple[int, l
         cur = nt  # step 3.d
 
 
-def _polygon(pts: np.ndarray, lm: int, steps: list[tuple[int, int, list[int]]], variant: _Variant) -> np.ndarray:
+def _polygon(pts: np.ndarray, lm: int, steps: list[tuple[int, int, list[int]]], variant: SeedVariant) -> np.ndarray:
     """Step 3.b-d's additions to the result set, in insertion order, as a counter-clockwise polygon."""
     order = [lm]
     in_result = {lm}
     for cur, nt, coll in steps:
         new = [t for t in dict.fromkeys(coll) if t not in in_result]  # step 3.b, HashSet.Add
-        if new and variant.sort_collinear:
+        if new and variant.improved:
             d = pts[new] - pts[cur]
             by_distance = np.argsort(np.sqrt(d[:, 0] * d[:, 0] + d[:, 1] * d[:, 1]), kind="stable")
             new = [new[j] for j in by_distance]
@@ -244,7 +237,7 @@ def _polygon(pts: np.ndarray, lm: int, steps: list[tuple[int, int, list[int]]], 
     return np.asarray(ccw, dtype=np.int64)
 
 
-def _run(points: np.ndarray, eps: float | None, variant: _Variant) -> np.ndarray:
+def _run(points: np.ndarray, eps: float | None, variant: SeedVariant) -> np.ndarray:
     """Validate, wrap, and lay the result set out as a polygon."""
     pts = as_points_2d(points, variant.name)
     tol = resolve_eps(pts, eps, variant.name)
