@@ -89,12 +89,12 @@ from outside: the seed's "clockwise".  The returned polygons are those lists
 reversed, counter-clockwise seen from outside as the harness contract asks
 (when step 10 sorted them into rotational order).
 
-Guards (a correct run cannot reach them): the random direction is drawn at
-most 1000 times; one face takes at most ``2 n + 100`` pivots (in exact
-arithmetic each pivot turns the plane further round ``AB``, so ``n - 2`` is
-enough; in floats, nearly coplanar input can make the pivots cycle); at most
-``4 n + 100`` faces are built (a hull on ``n`` points has at most ``2 n - 4``
-faces, and each iteration builds a new one).
+Guards (where one trips, the seed would loop forever): the random direction
+is drawn at most 1000 times; one face takes at most ``2 n + 100`` pivots (in
+exact arithmetic each pivot turns the plane further round ``AB``, so
+``n - 2`` is enough; in floats, nearly coplanar input can make the pivots
+cycle); at most ``4 n + 100`` faces are built (a hull on ``n`` points has at
+most ``2 n - 4`` faces, and each iteration builds a new one).
 
 Every dot product is written as elementwise products summed left to right
 (:func:`_dots`), never BLAS, so one input gives the same faces on every
