@@ -330,12 +330,10 @@ def test_power_of_two_scaling_changes_nothing_under_the_scaled_policy(name, scal
 @pytest.mark.parametrize("seed", [0, 1, 3])
 @pytest.mark.parametrize("kind", ["ball", "gauss"])
 def test_general_position_n2000(seed, kind):
-    pts = random_cloud(seed, 2000, kind)
-    eps = tolerance(pts, "scaled")
-    tri = gift_wrap_3d_dedup(pts)
-    if not nathan_premise(pts, eps):
-        pytest.skip("rounding breaks the seed's self-test premise on this input")
-    assert_closed_outward_hull(pts, tri)
+    # The first cloud from this seed on that keeps the premise (rounding breaks
+    # it on some 2000-point clouds: the seed's weak spot, tested elsewhere).
+    ((_, pts),) = first_inputs_with_premise(1, 2000, kind, policies=("scaled",), start=1000 * seed)
+    assert_closed_outward_hull(pts, gift_wrap_3d_dedup(pts))
 
 
 def test_n1000_ball_runs_quickly():
