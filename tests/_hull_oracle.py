@@ -47,12 +47,20 @@ def orient_sign(points: np.ndarray, tri: np.ndarray, queries: np.ndarray | None 
 
 
 def random_cloud(seed: int, n: int, kind: str) -> np.ndarray:
-    """n points in the unit ball, the cube [-1, 1]^3 or a standard Gaussian."""
+    """n points uniform in the unit ball, uniform in the cube [-1, 1]^3, or standard Gaussian.
+
+    Built from the generator's draws with elementwise + - * and comparisons
+    only (the ball by rejection from the cube), never ``**``, ``exp``, ``sin``
+    or BLAS, whose last bits numpy may take from a CPU-specific path: the same
+    seed gives the same bytes on every machine.
+    """
     rng = np.random.default_rng(seed)
     if kind == "ball":
-        x = rng.standard_normal((n, 3))
-        x /= np.linalg.norm(x, axis=1)[:, None]
-        return x * rng.random(n)[:, None] ** (1 / 3)
+        kept = np.zeros((0, 3))
+        while len(kept) < n:
+            x = rng.random((2 * n + 8, 3)) * 2 - 1
+            kept = np.vstack([kept, x[x[:, 0] * x[:, 0] + x[:, 1] * x[:, 1] + x[:, 2] * x[:, 2] <= 1.0]])
+        return kept[:n].copy()
     if kind == "cube":
         return rng.random((n, 3)) * 2 - 1
     return rng.standard_normal((n, 3))

@@ -1,4 +1,4 @@
-"""Tests of the three in-house 2D hulls: naive-2d, monotone-chain, jarvis-march.
+"""Tests of the in-house 2D hulls: naive-2d, monotone-chain, jarvis-march and its variant jarvis-march-sorted.
 
 The algorithms are the code under test, faithful to their seeds and not
 robust, so these tests check (1) that they are right on inputs in general
@@ -12,6 +12,7 @@ the algorithms make of them is recorded, not judged.
 
 from __future__ import annotations
 
+import doctest
 import math
 from fractions import Fraction
 
@@ -26,12 +27,18 @@ from hullstress.contract import normalize_polygon
 from hullstress.errors import AlgorithmStepLimit
 from hullstress.tolerance import tolerance
 from hullstress.algorithms import jarvis, naive2d
-from hullstress.algorithms.jarvis import jarvis_march
+from hullstress.algorithms import monotone_chain as monotone_chain_module
+from hullstress.algorithms.jarvis import jarvis_march, jarvis_march_sorted
 from hullstress.algorithms.monotone_chain import monotone_chain
 from hullstress.algorithms.naive2d import accepted_edges, naive_2d
 
-ALGORITHMS = {"naive-2d": naive_2d, "monotone-chain": monotone_chain, "jarvis-march": jarvis_march}
-KEEPS_COLLINEAR = {"naive-2d": True, "monotone-chain": False, "jarvis-march": True}
+ALGORITHMS = {
+    "naive-2d": naive_2d,
+    "monotone-chain": monotone_chain,
+    "jarvis-march": jarvis_march,
+    "jarvis-march-sorted": jarvis_march_sorted,
+}
+KEEPS_COLLINEAR = {"naive-2d": True, "monotone-chain": False, "jarvis-march": True, "jarvis-march-sorted": True}
 POLICIES = ("scaled", "fixed")
 
 
@@ -219,12 +226,48 @@ def diamond_with_edge_points(rng: np.random.Generator):
     return frozen(pts[perm]), [int(where[i]) for i in range(len(boundary))]
 
 
+def seed_insertion_order(trace, left_most: int) -> list[int]:
+    """The tutorial's ``result`` HashSet in insertion order (what its OnDrawGizmos joins), from its trace."""
+    result = [left_most]
+    for _, next_target, collinear in trace:
+        result += [t for t in dict.fromkeys(collinear) if t not in result]
+        if next_target != left_most and next_target not in result:
+            result.append(next_target)
+    return result
+
+
 @pytest.mark.parametrize("seed", range(4))
-def test_jarvis_keeps_collinear_boundary_points_in_ccw_order(seed):
+def test_jarvis_sorted_keeps_collinear_boundary_points_in_ccw_order(seed):
     points, ccw_boundary = diamond_with_edge_points(np.random.default_rng(seed))
-    out = jarvis_march(points, eps=0.0).tolist()
+    out = jarvis_march_sorted(points, eps=0.0).tolist()
     assert cyclic_equal(out, ccw_boundary), (out, ccw_boundary)
     assert_is_hull(points, out, allow_collinear=True)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_jarvis_literal_polygon_is_the_seeds_set_in_insertion_order(seed):
+    # Exact integer input: the same points as the sorted variant's, in the
+    # order the tutorial's HashSet received them, reversed to run ccw.
+    points, ccw_boundary = diamond_with_edge_points(np.random.default_rng(seed))
+    trace, spun = unity_update(points, 0.0)
+    assert not spun
+    inserted = seed_insertion_order(trace, trace[0][0])
+    out = jarvis_march(points, eps=0.0).tolist()
+    assert out == [inserted[0]] + inserted[:0:-1]
+    assert sorted(out) == sorted(ccw_boundary)
+
+
+def test_jarvis_literal_order_zigzags_where_the_scan_meets_an_edge_out_of_order():
+    # Rows 4 and 5 lie inside the bottom edge; the last scan (from (3, 0)
+    # towards (0, 0)) meets row 4 = (1, 0) before row 5 = (2, 0), the nearer.
+    points = frozen([[0.0, 0.0], [3.0, 0.0], [3.0, 3.0], [0.0, 3.0], [1.0, 0.0], [2.0, 0.0]])
+    literal = jarvis_march(points, eps=0.0).tolist()
+    assert literal == [0, 5, 4, 1, 2, 3]  # (0,0) -> (2,0) -> (1,0) -> (3,0): back along the edge
+    with pytest.raises(AssertionError, match="is not between its neighbours"):
+        assert_is_hull(points, literal, allow_collinear=True)
+    ordered = jarvis_march_sorted(points, eps=0.0).tolist()
+    assert ordered == [0, 4, 5, 1, 2, 3]
+    assert_is_hull(points, ordered, allow_collinear=True)
 
 
 def test_jarvis_starts_at_first_leftmost_and_wraps_clockwise_in_the_seed():
@@ -447,6 +490,15 @@ DEGENERATE = {
 }
 
 
+# jarvis-march-sorted differs from jarvis-march only where a scan meets two
+# collinear points out of distance order, which none of these inputs has.
+for _, _expected in DEGENERATE.values():
+    _want = _expected["jarvis-march"]
+    _expected["jarvis-march-sorted"] = (
+        (_want[0], _want[1].replace("^jarvis-march:", "^jarvis-march-sorted:")) if isinstance(_want, tuple) else _want
+    )
+
+
 @pytest.mark.parametrize("name", sorted(ALGORITHMS))
 @pytest.mark.parametrize("case", sorted(DEGENERATE))
 def test_degenerate_input(case, name):
@@ -504,3 +556,10 @@ def test_kettner_cases_run_to_an_end(case, name, policy, record_property):
         record_property("outcome", f"returned {out.tolist()}")
     except (ValueError, AlgorithmStepLimit) as exc:
         record_property("outcome", f"{type(exc).__name__}: {exc}")
+
+
+@pytest.mark.parametrize("module", [jarvis, monotone_chain_module, naive2d], ids=lambda m: m.__name__.rsplit(".", 1)[-1])
+def test_docstring_examples_run_as_printed(module):
+    # The examples document the seed's behaviour, weak spots included.
+    result = doctest.testmod(module, optionflags=doctest.ELLIPSIS, verbose=False)
+    assert result.attempted > 0 and result.failed == 0

@@ -1,6 +1,9 @@
 """Tests for hullstress.algorithms.gift_wrap (seed 000, Paul Nathan's 3D gift wrapping).
 
-Three kinds of test:
+Two registered algorithms: ``gift-wrap-3d`` adds every triangle a pop finds,
+as the seed writes it (a closed hull of ``F`` triangles takes ``3F/2`` pops and
+comes back with ``F/2`` repeats), and ``gift-wrap-3d-dedup`` does not add a
+triangle already in the array (the named improvement).  Three kinds of test:
 
 * exactness: the vectorised search picks the same candidates as the seed's
   plain double loops (a pure-Python transcription below, ``reference_gift_wrap``);
@@ -11,13 +14,17 @@ Three kinds of test:
   can lose faces, and a test pins that weak spot down;
 * the seed's particular behaviour: the eps formula, step 1's flattened point,
   step 2's first edge, the duplicate-edge check in both directions, the
-  reading taken on re-found triangles (a closed hull of ``F`` triangles still
-  takes ``3F/2`` pops, and the ``F/2`` triangles found a second time are not
-  added again), and degenerate inputs.
+  repeated triangles, and degenerate inputs.
+
+Whether rounding keeps the premise is a property of one input's last bits,
+so no test asserts it of a fixed input: tests that need it pick the first
+inputs (in a fixed order) on which it holds, and tests on float-noisy input
+accept the documented outcome set.
 """
 
 from __future__ import annotations
 
+import doctest
 import itertools
 import math
 import time
@@ -31,12 +38,21 @@ from scipy.spatial import ConvexHull
 
 from hullstress import _registry
 from hullstress.algorithms import gift_wrap
-from hullstress.algorithms.gift_wrap import _first_passing, _gift_wrap_trace, _rotation_key, gift_wrap_3d
+from hullstress.algorithms.gift_wrap import (
+    DEDUP,
+    LITERAL,
+    _first_passing,
+    _gift_wrap_trace,
+    _rotation_key,
+    gift_wrap_3d,
+    gift_wrap_3d_dedup,
+)
 from hullstress.errors import AlgorithmStepLimit
 from hullstress.tolerance import tolerance
 
 from _hull_oracle import orient_sign, random_cloud
 
+VARIANTS = {"gift-wrap-3d": gift_wrap_3d, "gift-wrap-3d-dedup": gift_wrap_3d_dedup}
 TET = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]])
 CUBE = np.array(list(itertools.product((0.0, 1.0), repeat=3)))
 
@@ -62,18 +78,38 @@ def assert_closed_outward_hull(points: np.ndarray, tri: np.ndarray) -> None:
     assert set(np.unique(tri).tolist()) == expected
 
 
-def assert_literal_stack_counts(points: np.ndarray, eps: float, n_vertices: int) -> None:
-    """The seed's stack, unchanged by the reading: ``pops == 3F/2`` and ``refound == F/2``.
+def assert_stack_counts(points: np.ndarray, eps: float, n_vertices: int) -> None:
+    """The seed's stack: ``pops == 3F/2``, ``F/2`` re-found triangles, added again only by the literal run.
 
     ``F = 2V - 4`` (Euler, every face a triangle in general position) with
     ``V`` from Qhull, so the expected counts do not come from the code.
     """
-    tr = _gift_wrap_trace(points, eps)
     f = 2 * n_vertices - 4
-    assert len(tr.triangles) == f
-    assert tr.pops == len(tr.edges) == 3 * f // 2  # each undirected edge pushed and popped once
-    assert tr.refound == f // 2
-    np.testing.assert_array_equal(tr.triangles, gift_wrap_3d(points, eps=eps))
+    literal = _gift_wrap_trace(points, eps, LITERAL)
+    dedup = _gift_wrap_trace(points, eps, DEDUP)
+    for tr in (literal, dedup):
+        assert tr.pops == len(tr.edges) == 3 * f // 2  # each undirected edge pushed and popped once
+        assert tr.refound == f // 2
+    assert len(dedup.triangles) == f
+    assert len(literal.triangles) == 3 * f // 2  # one triangle per pop
+    # The literal array is the dedup array plus repeats (other rotations) of its triangles.
+    assert {canonical(t) for t in literal.triangles.tolist()} == {canonical(t) for t in dedup.triangles.tolist()}
+    kept = [t for t in literal.triangles.tolist() if canonical(t) in {canonical(u) for u in dedup.triangles.tolist()}]
+    assert len(kept) == len(literal.triangles)
+    np.testing.assert_array_equal(literal.triangles, gift_wrap_3d(points, eps=eps))
+    np.testing.assert_array_equal(dedup.triangles, gift_wrap_3d_dedup(points, eps=eps))
+
+
+def first_inputs_with_premise(count: int, n: int, kind: str, policies=("scaled", "fixed"), start: int = 0):
+    """The first ``count`` seeds (from ``start``) whose cloud keeps the premise under every policy."""
+    found = []
+    for seed in itertools.count(start):
+        pts = random_cloud(seed, n, kind)
+        if all(nathan_premise(pts, tolerance(pts, p)) for p in policies):
+            found.append((seed, pts))
+            if len(found) == count:
+                return found
+        assert seed < start + 50 * count, f"the premise failed on 50 {kind} clouds in a row"
 
 
 def nathan_premise(points: np.ndarray, eps: float) -> bool:
@@ -118,11 +154,11 @@ def _div(a: float, b: float) -> float:
     return math.nan if b == 0.0 else a / b
 
 
-def reference_gift_wrap(points: np.ndarray, eps: float) -> list[tuple[int, int, int]]:
+def reference_gift_wrap(points: np.ndarray, eps: float, *, dedup: bool = False) -> list[tuple[int, int, int]]:
     """Nathan's steps 1-4 as the seed writes them: plain double loops over Python floats.
 
-    Plus the one line of the reading taken: a triangle already in the array in
-    any rotation (same cyclic order) is not appended again.
+    With ``dedup`` (the variant), a triangle already in the array in any
+    rotation (same cyclic order) is not appended again.
     """
     P = [tuple(float(v) for v in row) for row in points]
     n = len(P)
@@ -163,7 +199,7 @@ def reference_gift_wrap(points: np.ndarray, eps: float) -> list[tuple[int, int, 
                 if frozenset((u, v)) not in seen:
                     seen.add(frozenset((u, v)))
                     stack.append((u, v))
-            if (a, b, c) not in triangles and (b, c, a) not in triangles and (c, a, b) not in triangles:
+            if not dedup or (a, b, c) not in triangles and (b, c, a) not in triangles and (c, a, b) not in triangles:
                 triangles.append((a, b, c))
             break
     return triangles
@@ -172,17 +208,19 @@ def reference_gift_wrap(points: np.ndarray, eps: float) -> list[tuple[int, int, 
 # --------------------------------------------------------------------------- registration and contract
 
 
-def test_registered_as_gift_wrap_3d():
-    spec = _registry.get_algorithm("gift-wrap-3d")
-    assert spec.func is gift_wrap_3d
+@pytest.mark.parametrize("name", sorted(VARIANTS))
+def test_registered_in_house_with_eps(name):
+    spec = _registry.get_algorithm(name)
+    assert spec.func is VARIANTS[name]
     assert spec.dim == 3 and spec.takes_eps and spec.origin == "in-house"
 
 
-def test_returns_int64_triangles_and_leaves_input_alone():
+@pytest.mark.parametrize("name", sorted(VARIANTS))
+def test_returns_int64_triangles_and_leaves_input_alone(name):
     pts = random_cloud(1, 50, "ball")
     pts.setflags(write=False)
     before = pts.copy()
-    out = gift_wrap_3d(pts)
+    out = VARIANTS[name](pts)
     assert out.dtype == np.int64 and out.ndim == 2 and out.shape[1] == 3
     np.testing.assert_array_equal(pts, before)
 
@@ -200,9 +238,10 @@ def test_returns_int64_triangles_and_leaves_input_alone():
         (TET, float("nan"), "eps must be a finite number >= 0 or None"),
     ],
 )
-def test_bad_calls_raise_value_error(points, eps, message):
-    with pytest.raises(ValueError, match=f"^gift-wrap-3d: {message}"):
-        gift_wrap_3d(points, eps=eps)
+@pytest.mark.parametrize("name", sorted(VARIANTS))
+def test_bad_calls_raise_value_error(name, points, eps, message):
+    with pytest.raises(ValueError, match=f"^{name}: {message}"):
+        VARIANTS[name](points, eps=eps)
 
 
 # --------------------------------------------------------------------------- exactness of the vectorised search
@@ -213,8 +252,9 @@ def test_bad_calls_raise_value_error(points, eps, message):
     seed=st.integers(0, 2**32 - 1),
     kind=st.sampled_from(["ball", "cube", "gauss", "int-grid", "flat", "duplicates"]),
     policy=st.sampled_from(["scaled", "fixed"]),
+    dedup=st.booleans(),
 )
-def test_same_triangles_as_the_seeds_double_loops(n, seed, kind, policy):
+def test_same_triangles_as_the_seeds_double_loops(n, seed, kind, policy, dedup):
     rng = np.random.default_rng(seed)
     if kind == "int-grid":  # coplanar and collinear runs, repeated points
         pts = rng.integers(0, 3, size=(n, 3)).astype(float)
@@ -226,13 +266,14 @@ def test_same_triangles_as_the_seeds_double_loops(n, seed, kind, policy):
     else:
         pts = random_cloud(seed, n, kind)
     eps = tolerance(pts, policy)
+    func = gift_wrap_3d_dedup if dedup else gift_wrap_3d
     try:
-        expected = reference_gift_wrap(pts, eps)
+        expected = reference_gift_wrap(pts, eps, dedup=dedup)
     except RuntimeError:
         with pytest.raises(RuntimeError, match="step 2 found no first edge"):
-            gift_wrap_3d(pts, eps=eps)
+            func(pts, eps=eps)
         return
-    assert [tuple(t) for t in gift_wrap_3d(pts, eps=eps).tolist()] == expected
+    assert [tuple(t) for t in func(pts, eps=eps).tolist()] == expected
 
 
 @given(
@@ -272,32 +313,31 @@ def test_general_position_gives_the_hull(n, seed, kind, policy):
     pts = random_cloud(seed, n, kind)
     eps = tolerance(pts, policy)
     assume(nathan_premise(pts, eps))
-    tri = gift_wrap_3d(pts, eps=eps)
+    tri = gift_wrap_3d_dedup(pts, eps=eps)
     note(f"{len(tri)} triangles")
     assert_closed_outward_hull(pts, tri)
-    assert_literal_stack_counts(pts, eps, n_vertices=len(ConvexHull(pts).vertices))
+    assert_stack_counts(pts, eps, n_vertices=len(ConvexHull(pts).vertices))
 
 
+@pytest.mark.parametrize("name", sorted(VARIANTS))
 @pytest.mark.parametrize("scale_exp", [-30, -3, 7, 40])
-def test_power_of_two_scaling_changes_nothing_under_the_scaled_policy(scale_exp):
+def test_power_of_two_scaling_changes_nothing_under_the_scaled_policy(name, scale_exp):
     pts = random_cloud(5, 150, "gauss")
-    np.testing.assert_array_equal(gift_wrap_3d(pts), gift_wrap_3d(pts * 2.0**scale_exp))
+    np.testing.assert_array_equal(VARIANTS[name](pts), VARIANTS[name](pts * 2.0**scale_exp))
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("seed", [0, 1, 3])
 @pytest.mark.parametrize("kind", ["ball", "gauss"])
 def test_general_position_n2000(seed, kind):
-    pts = random_cloud(seed, 2000, kind)
-    eps = tolerance(pts, "scaled")
-    tri = gift_wrap_3d(pts)
-    if not nathan_premise(pts, eps):
-        pytest.skip("rounding breaks the seed's self-test premise on this input")
-    assert_closed_outward_hull(pts, tri)
+    # The first cloud from this seed on that keeps the premise (rounding breaks
+    # it on some 2000-point clouds: the seed's weak spot, tested elsewhere).
+    ((_, pts),) = first_inputs_with_premise(1, 2000, kind, policies=("scaled",), start=1000 * seed)
+    assert_closed_outward_hull(pts, gift_wrap_3d_dedup(pts))
 
 
 def test_n1000_ball_runs_quickly():
-    pts = random_cloud(3, 1000, "ball")
+    ((_, pts),) = first_inputs_with_premise(1, 1000, "ball", policies=("scaled",), start=3)
     start = time.perf_counter()
     tri = gift_wrap_3d(pts)
     elapsed = time.perf_counter() - start
@@ -349,16 +389,19 @@ def test_first_point_is_farthest_on_the_flattened_set():
 
 
 def test_first_edge_is_the_first_index_with_no_point_beyond_it():
-    pts = random_cloud(11, 40, "cube")
+    ((_, pts),) = first_inputs_with_premise(1, 40, "cube", policies=("scaled",), start=11)
     eps = tolerance(pts, "scaled")
     tr = _gift_wrap_trace(pts, eps)
     first = tr.first_point
     assert tr.first_edge[0] == first
 
     def outside(c):
+        # The edge's own two points are on it (the premise says rounding keeps
+        # them within eps); every other point is judged by the seed's formula.
         e = pts[c, :2] - pts[first, :2]
         normal = np.array([e[1], -e[0]]) / math.hypot(*e)  # E/|E| x z_hat
-        return ((pts[:, :2] - pts[first, :2]) @ normal > eps).any()
+        rel = np.delete(pts[:, :2] - pts[first, :2], [first, c], axis=0)
+        return (rel[:, 0] * normal[0] + rel[:, 1] * normal[1] > eps).any()
 
     passing = [c for c in range(40) if c != first and not outside(c)]
     assert tr.first_edge[1] == passing[0]
@@ -367,37 +410,44 @@ def test_first_edge_is_the_first_index_with_no_point_beyond_it():
 
 
 def test_duplicate_edge_check_in_both_directions_on_a_tetrahedron():
-    tr = _gift_wrap_trace(TET, 0.0)
+    tr = _gift_wrap_trace(TET, 0.0, LITERAL)
     undirected = [frozenset(e) for e in tr.edges]
     # Six hull edges, each recorded (and pushed) exactly once, in one direction only.
     assert len(tr.edges) == 6 and len(set(undirected)) == 6
     assert set(undirected) == {frozenset(p) for p in itertools.combinations(range(4), 2)}
     assert tr.pops == 6  # the first edge plus five pushes
-    # Six pops find a triangle each; two of them are faces built already.
-    assert tr.refound == 2 and len(tr.triangles) == 4
-    assert_closed_outward_hull(TET, tr.triangles)
+    # Six pops find a triangle each; two of them are faces built already, and
+    # the seed adds them again: six triangles, four distinct.
+    assert tr.refound == 2 and len(tr.triangles) == 6
+    assert len({canonical(t) for t in tr.triangles.tolist()}) == 4
+    dedup = _gift_wrap_trace(TET, 0.0, DEDUP)
+    assert dedup.pops == 6 and dedup.refound == 2 and len(dedup.triangles) == 4
+    assert_closed_outward_hull(TET, dedup.triangles)
 
 
 @pytest.mark.parametrize("policy", ["scaled", "fixed"])
 def test_triangulated_cube_pops_three_halves_f_and_refinds_half(policy):
     # A cube with its corners moved by up to 1e-3: every quad splits into two
-    # triangles along a definite diagonal, F = 12, 18 edges.
-    pts = CUBE + np.random.default_rng(7).uniform(-1e-3, 1e-3, CUBE.shape)
-    eps = tolerance(pts, policy)
-    assert nathan_premise(pts, eps)
-    assert_closed_outward_hull(pts, gift_wrap_3d(pts, eps=eps))
-    assert_literal_stack_counts(pts, eps, n_vertices=8)
+    # triangles along a definite diagonal, F = 12, 18 edges.  The first jitter
+    # (in seed order) that keeps the premise.
+    for seed in range(7, 57):
+        pts = CUBE + np.random.default_rng(seed).uniform(-1e-3, 1e-3, CUBE.shape)
+        eps = tolerance(pts, policy)
+        if nathan_premise(pts, eps):
+            break
+    else:
+        pytest.fail("the premise failed on 50 jittered cubes in a row")
+    assert_closed_outward_hull(pts, gift_wrap_3d_dedup(pts, eps=eps))
+    assert_stack_counts(pts, eps, n_vertices=8)
 
 
-@pytest.mark.parametrize(("seed", "n", "kind"), [(0, 30, "ball"), (1, 100, "cube"), (2, 300, "ball")])
-@pytest.mark.parametrize("policy", ["scaled", "fixed"])
-def test_random_cloud_pops_three_halves_f_and_refinds_half(seed, n, kind, policy):
-    # Inputs chosen where the seed's premise holds under both policies (on
+@pytest.mark.parametrize(("n", "kind"), [(30, "ball"), (100, "cube"), (300, "ball")])
+def test_random_cloud_pops_three_halves_f_and_refinds_half(n, kind):
+    # The first inputs where the seed's premise holds under both policies (on
     # Gaussian clouds the fixed eps usually breaks it; see the weak-spot tests).
-    pts = random_cloud(seed, n, kind)
-    eps = tolerance(pts, policy)
-    assert nathan_premise(pts, eps)
-    assert_literal_stack_counts(pts, eps, n_vertices=len(ConvexHull(pts).vertices))
+    ((_, pts),) = first_inputs_with_premise(1, n, kind)
+    for policy in ("scaled", "fixed"):
+        assert_stack_counts(pts, tolerance(pts, policy), n_vertices=len(ConvexHull(pts).vertices))
 
 
 def test_rotation_key_matches_rotations_not_reversals():
@@ -407,13 +457,15 @@ def test_rotation_key_matches_rotations_not_reversals():
     assert _rotation_key(3, 3, 0) == _rotation_key(3, 0, 3) == (0, 3, 3)  # repeated index
 
 
-def test_duplicate_edge_check_on_a_cube():
+@pytest.mark.parametrize("variant", [LITERAL, DEDUP], ids=["literal", "dedup"])
+def test_duplicate_edge_check_on_a_cube(variant):
     # The exact cube has four coplanar points per face: overlapping triangles
-    # (see the coplanar test), still each added at most once.
-    tr = _gift_wrap_trace(CUBE, tolerance(CUBE, "scaled"))
+    # (see the coplanar test); the dedup variant adds each at most once.
+    tr = _gift_wrap_trace(CUBE, tolerance(CUBE, "scaled"), variant)
     undirected = [frozenset(e) for e in tr.edges]
-    assert len(set(undirected)) == len(undirected) == tr.pops == len(tr.triangles) + tr.refound
-    assert len({canonical(t) for t in tr.triangles.tolist()}) == len(tr.triangles)
+    distinct = len({canonical(t) for t in tr.triangles.tolist()})
+    assert len(set(undirected)) == len(undirected) == tr.pops == distinct + tr.refound
+    assert len(tr.triangles) == (distinct if variant.improved else tr.pops)
     # Every edge of every triangle was recorded once, whichever way it was met.
     tri_edges = {frozenset((t[i], t[(i + 1) % 3])) for t in tr.triangles.tolist() for i in range(3)}
     assert tri_edges == set(undirected)
@@ -445,9 +497,9 @@ def test_self_test_rounding_can_lose_the_whole_hull():
         ]
     )
     assert not nathan_premise(pts, tolerance(pts, "scaled"))
-    assert gift_wrap_3d(pts).shape == (0, 3)
+    assert gift_wrap_3d(pts).shape == gift_wrap_3d_dedup(pts).shape == (0, 3)
     # A slightly larger eps finds all four faces.
-    assert_closed_outward_hull(pts, gift_wrap_3d(pts, eps=1e-12))
+    assert_closed_outward_hull(pts, gift_wrap_3d_dedup(pts, eps=1e-12))
 
 
 def test_step_two_can_find_no_first_edge():
@@ -480,9 +532,11 @@ def test_a_reversed_triangle_is_not_a_repeat():
     # duplicates.  Pop (1, 2): c=0 gives (1, 2, 0), a rotation of (0, 1, 2),
     # found again and not added.
     dup = np.vstack([TET[1:2], TET])
-    tr = _gift_wrap_trace(dup, tolerance(dup, "scaled"))
+    tr = _gift_wrap_trace(dup, tolerance(dup, "scaled"), DEDUP)
     assert tr.triangles.tolist() == [[0, 2, 1], [0, 1, 2]]
     assert tr.pops == 3 and tr.refound == 1
+    literal = _gift_wrap_trace(dup, tolerance(dup, "scaled"), LITERAL)
+    assert literal.triangles.tolist() == [[0, 2, 1], [0, 1, 2], [1, 2, 0]]
 
 
 def test_coplanar_grid_gives_overlapping_triangles():
@@ -495,33 +549,54 @@ def test_coplanar_grid_gives_overlapping_triangles():
     assert max(directed.values()) > 1 or any((b, a) not in directed for a, b in directed)
 
 
-@pytest.mark.parametrize(
-    "name",
-    ["flat", "tilted-flat", "line", "vertical-line", "all-equal", "three-points", "grid-10", "duplicated-cloud"],
-)
-def test_degenerate_input_terminates_with_triangles(name):
-    rng = np.random.default_rng(2)
-    points = {
-        "flat": np.c_[rng.random((200, 2)), np.zeros(200)],
-        "tilted-flat": np.c_[rng.random((200, 2)), np.zeros(200)] @ np.linalg.qr(rng.standard_normal((3, 3)))[0],
-        "line": np.outer(rng.random(50), [1.0, 2.0, 3.0]),
-        "vertical-line": np.c_[np.zeros((20, 2)), rng.random(20)],
-        "all-equal": np.ones((10, 3)),
-        "three-points": TET[:3],
-        "grid-10": np.array(list(itertools.product(range(10), repeat=3)), dtype=float),
-        "duplicated-cloud": np.repeat(random_cloud(4, 40, "ball"), 3, axis=0),
-    }[name]
+# Exact inputs (no rounding in any test the seed makes: the triangles come
+# back), and inputs whose rounding decides the self-tests (the seed's weak spot:
+# triangles, possibly none, or no first edge at all).
+EXACT_DEGENERATE = {
+    "flat": lambda rng: np.c_[rng.integers(0, 1000, (200, 2)) / 1024.0, np.zeros(200)],
+    "vertical-line": lambda rng: np.c_[np.zeros((20, 2)), rng.random(20)],
+    "all-equal": lambda rng: np.ones((10, 3)),
+    "three-points": lambda rng: TET[:3],
+    "grid-10": lambda rng: np.array(list(itertools.product(range(10), repeat=3)), dtype=float),
+}
+NOISY_DEGENERATE = {
+    "tilted-flat": lambda rng: np.c_[rng.random((200, 2)), np.zeros(200)] @ np.linalg.qr(rng.standard_normal((3, 3)))[0],
+    "line": lambda rng: np.outer(rng.random(50), [1.0, 2.0, 3.0]),
+    "duplicated-cloud": lambda rng: np.repeat(random_cloud(4, 40, "ball"), 3, axis=0),
+}
+
+
+@pytest.mark.parametrize("name", sorted(VARIANTS))
+@pytest.mark.parametrize("case", sorted(EXACT_DEGENERATE) + sorted(NOISY_DEGENERATE))
+def test_degenerate_input_ends_as_documented(case, name):
+    points = {**EXACT_DEGENERATE, **NOISY_DEGENERATE}[case](np.random.default_rng(2))
     start = time.perf_counter()
-    tri = gift_wrap_3d(points)
-    assert time.perf_counter() - start < 20.0
-    assert tri.ndim == 2 and tri.shape[1] == 3 and len(tri) >= 1
+    try:
+        tri = VARIANTS[name](points)
+    except RuntimeError as exc:
+        assert case in NOISY_DEGENERATE, f"{case} is exact, yet: {exc}"
+        assert str(exc).startswith(f"{name}: step 2 found no first edge")
+        return
+    finally:
+        assert time.perf_counter() - start < 20.0
+    assert tri.ndim == 2 and tri.shape[1] == 3
+    assert len(tri) >= (1 if case in EXACT_DEGENERATE else 0)
     assert ((tri >= 0) & (tri < len(points))).all()
-    assert len({canonical(t) for t in tri.tolist()}) == len(tri)  # no triangle twice in one orientation
+    if name == "gift-wrap-3d-dedup":
+        assert len({canonical(t) for t in tri.tolist()}) == len(tri)  # no triangle twice in one orientation
 
 
-def test_main_loop_guard_names_the_step(monkeypatch):
+@pytest.mark.parametrize("name", sorted(VARIANTS))
+def test_main_loop_guard_names_the_step(monkeypatch, name):
     # The duplicate check bounds the pops by n(n-1)/2 + 1, far below the
     # guard; shrink the guard to check that it trips with a clear message.
     monkeypatch.setattr(gift_wrap, "_pop_limit", lambda n: 3)
-    with pytest.raises(AlgorithmStepLimit, match=r"^gift-wrap-3d: step 4 \(main loop\) exceeded 3 edge pops"):
-        gift_wrap_3d(TET)
+    with pytest.raises(AlgorithmStepLimit, match=rf"^{name}: step 4 \(main loop\) exceeded 3 edge pops"):
+        VARIANTS[name](TET)
+
+
+@pytest.mark.parametrize("module", [gift_wrap], ids=lambda m: m.__name__.rsplit(".", 1)[-1])
+def test_docstring_examples_run_as_printed(module):
+    # The examples document the seed's behaviour, weak spots included.
+    result = doctest.testmod(module, optionflags=doctest.ELLIPSIS, verbose=False)
+    assert result.attempted > 0 and result.failed == 0

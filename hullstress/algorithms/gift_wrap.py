@@ -1,4 +1,4 @@
-"""3D gift wrapping after Paul Nathan (2015), registered as ``gift-wrap-3d``.
+"""3D gift wrapping after Paul Nathan (2015), registered as ``gift-wrap-3d`` (literal) and ``gift-wrap-3d-dedup``.
 
 Seed document: ``000_9121b2368187346b.txt`` (P. Nathan, "Obtaining the Convex
 Hull from a Set of Points using the Gift Wrapping Algorithm", 10/04/2015).
@@ -24,29 +24,31 @@ The code follows its numbered steps:
   accepted when no point has ``d = n.(P - V0) > eps``.  The two new edges that
   share ``c`` are reversed, ``(c, b)`` then ``(a, c)``, and each is pushed
   (and recorded) unless it is in the edge array in either direction; then the
-  triangle ``(a, b, c)`` is added to the array of hull triangles, unless it is
-  already there (see "Reading taken").  The loop ends when the stack is empty.
+  outer loop exits and the triangle ``(a, b, c)`` is added to the array of
+  hull triangles.  The loop ends when the stack is empty.
 
 The triangles are ``(V0, V1, V2) = (a, b, c)``, the seed's "anti-clockwise
 positive winding" with the outward normal ``E01 x E12``: counter-clockwise
 seen from outside, as the harness contract asks.
 
-Reading taken:
+**Repeated triangles: the seed's weakness, kept in** ``gift-wrap-3d``.  Every
+undirected edge is pushed once and every pop that finds a candidate adds it,
+so a closed hull of ``F`` triangles comes back as ``3F/2`` triangles: every
+face, plus ``F/2`` exact repeats (an edge whose far side was already built
+is still popped, and finds that triangle again, in another rotation; one
+face can come back more than once).
+The seed adds the candidate "to a dynamic array of convex hull triangles (the
+required end product)" without a check, so the literal output is not a
+manifold surface: the checker reports the repeated faces.
+:attr:`GiftWrapTrace.refound` counts them.
 
-* **Each hull triangle is in the array once.**  Taken literally, every
-  undirected edge is pushed once and every pop adds a triangle, so a closed
-  hull of ``F`` triangles would come back as ``E = 3F/2`` triangles: every face
-  once plus ``F/2`` exact repeats (an edge whose far side was already built is
-  still popped and finds that triangle again).  The seed calls the array of
-  triangles "the required end product", i.e. the hull's triangles, and the
-  project asks for a hull that passes every check (a repeated face is not a
-  manifold surface), so a candidate already in the array, the same triangle in
-  any rotation (same cyclic order), is not added again.  Its two reversed
-  edges are in the edge array already, so nothing is pushed either.  All else
-  is literal: the stack, the pops (still ``3F/2`` on a closed hull in general
-  position; :attr:`GiftWrapTrace.refound` counts the ``F/2`` dropped repeats),
-  and a triangle with the same points in the *opposite* order is a different
-  triangle and is kept (that happens only on flat or degenerate input).
+**The named variant** ``gift-wrap-3d-dedup`` (an improvement on the seed)
+does not add a candidate that is already in the array, the same triangle in
+any rotation (same cyclic order); its two reversed edges are in the edge
+array already, so nothing is pushed either.  Everything else is the same:
+the stack, the pops (still ``3F/2`` on a closed hull in general position),
+and a triangle with the same points in the *opposite* order is a different
+triangle and is kept (that happens only on flat or degenerate input).
 
 Quirks kept on purpose (the harness is meant to expose them):
 
@@ -94,10 +96,10 @@ import numpy as np
 from .._registry import register_algorithm
 from ..errors import AlgorithmStepLimit
 from ..tolerance import tolerance
+from ._variant import SeedVariant
 
-__all__ = ["gift_wrap_3d"]
+__all__ = ["gift_wrap_3d", "gift_wrap_3d_dedup"]
 
-_NAME = "gift-wrap-3d"
 #: Upper bound on the elements of one block of distances (about 16 MB of float64).
 _BLOCK_BUDGET = 2_000_000
 #: Largest number of candidates checked together in one block.
@@ -125,10 +127,11 @@ class GiftWrapTrace:
         Edges popped from the stack.
     refound : int
         Pops whose candidate triangle was already in the array (the same
-        triangle in any rotation) and so was not added again: ``F/2`` on a
-        closed hull of ``F`` triangles, where ``pops == 3F/2``.
+        triangle in any rotation): ``F/2`` on a closed hull of ``F``
+        triangles, where ``pops == 3F/2``.  The literal run adds them again;
+        the ``dedup`` variant does not.
     triangles : ndarray of shape (m, 3), int64
-        The accepted triangles in the order they were added, each once.
+        The accepted triangles in the order they were added.
     """
 
     eps: float
@@ -295,7 +298,12 @@ def _pop_limit(n: int) -> int:
     return 8 * n * n + 100
 
 
-def _gift_wrap_trace(pts: np.ndarray, eps: float) -> GiftWrapTrace:
+#: Every found triangle added, as written; and a re-found triangle not added again (the improvement).
+LITERAL = SeedVariant("gift-wrap-3d", improved=False)
+DEDUP = SeedVariant("gift-wrap-3d-dedup", improved=True)
+
+
+def _gift_wrap_trace(pts: np.ndarray, eps: float, variant: SeedVariant = LITERAL) -> GiftWrapTrace:
     """Run steps 1-4 on validated points and record what happened."""
     n = len(pts)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
@@ -303,7 +311,7 @@ def _gift_wrap_trace(pts: np.ndarray, eps: float) -> GiftWrapTrace:
         second = _first_edge(pts, first, eps)
         if second < 0:
             raise RuntimeError(
-                f"{_NAME}: step 2 found no first edge: every edge from point {first} "
+                f"{variant.name}: step 2 found no first edge: every edge from point {first} "
                 f"has a point at signed distance > eps={eps!r}"
             )
         # Step 3: the stack, and the dynamic array of edges for the duplicate check.
@@ -312,7 +320,8 @@ def _gift_wrap_trace(pts: np.ndarray, eps: float) -> GiftWrapTrace:
         seen = {(min(first, second), max(first, second))}
         triangles: list[tuple[int, int, int]] = []
         # Rotation keys of the triangles in the array: a triangle found again
-        # from the far side of one of its edges is not added twice.
+        # from the far side of one of its edges is counted (and, in the dedup
+        # variant, not added twice).
         built: set[tuple[int, int, int]] = set()
         limit = _pop_limit(n)
         pops = 0
@@ -323,7 +332,7 @@ def _gift_wrap_trace(pts: np.ndarray, eps: float) -> GiftWrapTrace:
             pops += 1
             if pops > limit:
                 raise AlgorithmStepLimit(
-                    f"{_NAME}: step 4 (main loop) exceeded {limit} edge pops (8*n^2+100 for n={n})"
+                    f"{variant.name}: step 4 (main loop) exceeded {limit} edge pops (8*n^2+100 for n={n})"
                 )
             a, b = stack.pop()
             q, nrm = _triangle_normals(pts, a, b)
@@ -340,11 +349,12 @@ def _gift_wrap_trace(pts: np.ndarray, eps: float) -> GiftWrapTrace:
                     edges.append((u, v))
                     stack.append((u, v))
             # A triangle already in the array has both its edges recorded, so
-            # the loop above pushed nothing; it is only not added again.
+            # the loop above pushed nothing.  The seed adds it again.
             key = _rotation_key(a, b, c)
             if key in built:
                 refound += 1
-                continue
+                if variant.improved:
+                    continue
             built.add(key)
             triangles.append((a, b, c))
     tri = np.array(triangles, dtype=np.int64).reshape(-1, 3)
@@ -359,9 +369,15 @@ def _gift_wrap_trace(pts: np.ndarray, eps: float) -> GiftWrapTrace:
     )
 
 
-@register_algorithm(_NAME, dim=3)
+def _run(points: np.ndarray, eps: float | None, variant: SeedVariant) -> np.ndarray:
+    """Validate, then run steps 1-4; the triangles the array holds at the end."""
+    pts = _checked_points(points, variant.name, 3)
+    return _gift_wrap_trace(pts, _checked_eps(pts, eps, variant.name), variant).triangles
+
+
+@register_algorithm(LITERAL.name, dim=3)
 def gift_wrap_3d(points: np.ndarray, /, *, eps: float | None = None) -> np.ndarray:
-    """3D gift wrapping after Paul Nathan (2015): triangles from an edge stack.
+    """3D gift wrapping after Paul Nathan (2015), as written: triangles from an edge stack, repeats included.
 
     Parameters
     ----------
@@ -377,10 +393,10 @@ def gift_wrap_3d(points: np.ndarray, /, *, eps: float | None = None) -> np.ndarr
     -------
     ndarray of shape (m, 3), int64
         Triangles, counter-clockwise seen from outside, in the order the seed
-        adds them, each once (a triangle found again from the far side of one
-        of its edges is not added twice; see "Reading taken" in the module
-        docstring).  On flat or degenerate input they can overlap, and the
-        same points can come back in both orientations.
+        adds them: one per pop that found a candidate, so a closed hull of
+        ``F`` triangles comes with ``F/2`` repeats (in other rotations); see
+        the module docstring.  On flat or degenerate input they
+        can overlap, and the same points can come back in both orientations.
 
     Raises
     ------
@@ -392,19 +408,59 @@ def gift_wrap_3d(points: np.ndarray, /, *, eps: float | None = None) -> np.ndarr
     hullstress.errors.AlgorithmStepLimit
         The main-loop guard tripped (it cannot with the seed's duplicate check).
 
+    See Also
+    --------
+    gift_wrap_3d_dedup : the same, without adding a triangle already in the array.
+
     Examples
     --------
     >>> tet = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]])
-    >>> gift_wrap_3d(tet).tolist()  # the 4 faces, each once
-    [[1, 2, 3], [1, 3, 0], [1, 0, 2], [2, 0, 3]]
+    >>> gift_wrap_3d(tet).tolist()  # 6 edges popped, 6 triangles: (2, 0, 3) three times
+    [[1, 2, 3], [1, 3, 0], [1, 0, 2], [2, 0, 3], [0, 3, 2], [3, 2, 0]]
 
     A duplicated point gives zero-area triangles (their NaN normal passes the
     test); here rows 0 and 2 are equal, and all that comes back is one
-    zero-area triangle in both orientations:
+    zero-area triangle in both orientations, one of them twice:
 
     >>> dup = np.vstack([tet[1:2], tet])
     >>> gift_wrap_3d(dup).tolist()
+    [[0, 2, 1], [0, 1, 2], [1, 2, 0]]
+    """
+    return _run(points, eps, LITERAL)
+
+
+@register_algorithm(DEDUP.name, dim=3)
+def gift_wrap_3d_dedup(points: np.ndarray, /, *, eps: float | None = None) -> np.ndarray:
+    """Nathan's 3D gift wrapping, each triangle added once (a named improvement on the seed).
+
+    Parameters
+    ----------
+    points : ndarray of shape (n, 3), float64
+        The input points, ``n >= 3``, finite.  Never written to.
+    eps : float or None
+        As for :func:`gift_wrap_3d`.
+
+    Returns
+    -------
+    ndarray of shape (m, 3), int64
+        Triangles, counter-clockwise seen from outside, in the order the seed
+        adds them, each once: a triangle found again from the far side of one
+        of its edges (the same triangle in any rotation) is not added twice.
+        On flat or degenerate input they can overlap, and the same points can
+        come back in both orientations.
+
+    Raises
+    ------
+    ValueError, RuntimeError, hullstress.errors.AlgorithmStepLimit
+        As for :func:`gift_wrap_3d`.
+
+    Examples
+    --------
+    >>> tet = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]])
+    >>> gift_wrap_3d_dedup(tet).tolist()  # the 4 faces, each once
+    [[1, 2, 3], [1, 3, 0], [1, 0, 2], [2, 0, 3]]
+    >>> dup = np.vstack([tet[1:2], tet])
+    >>> gift_wrap_3d_dedup(dup).tolist()
     [[0, 2, 1], [0, 1, 2]]
     """
-    pts = _checked_points(points, _NAME, 3)
-    return _gift_wrap_trace(pts, _checked_eps(pts, eps, _NAME)).triangles
+    return _run(points, eps, DEDUP)

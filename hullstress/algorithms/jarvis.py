@@ -1,4 +1,4 @@
-"""The Unity tutorial's Jarvis march with collinear points, registered as ``jarvis-march``.
+"""The Unity tutorial's Jarvis march with collinear points, registered as ``jarvis-march`` (literal) and ``jarvis-march-sorted``.
 
 Seed: ``003_c44ed1a926a0d37c.txt`` ("Gift Wrapping Convex Hull Algorithm With
 Unity Implementation", the ``Update()`` method of ``JarvisMarchConvexHull``).
@@ -53,13 +53,22 @@ Readings and quirks kept on purpose:
   ``eps`` makes both tests false for every point.
 * **Direction and output order.**  The scan replaces ``nextTarget`` by any
   point to its *left*, so the final ``nextTarget`` has every point on its
-  right and the wrap runs *clockwise*.  The seed's result is an unordered set
-  (its drawing code joins the set's members in insertion order); the contract
-  wants a counter-clockwise polygon, so the set is laid out in wrap order:
-  the leftmost point, then per iteration the new members of its collinear list
-  sorted by distance from ``current`` (stable for ties), then ``nextTarget``
-  if new; the whole sequence is then reversed (keeping the leftmost first).
-  Collinear boundary points are therefore kept, in boundary order.
+  right and the wrap runs *clockwise*.  The seed's result is a ``HashSet``,
+  and its only order is the one its drawing code (``OnDrawGizmos``) uses: the
+  members in insertion order, each joined to the next and the last to the
+  first.  That is the polygon ``jarvis-march`` returns: the leftmost point,
+  then per iteration the new members of the collinear list *in list order*
+  (the order the scan collected them, which is index order among the points
+  it met, not their order along the edge), then ``nextTarget`` if new; the
+  whole sequence reversed (keeping the leftmost first), because the contract
+  wants counter-clockwise.  **This is the seed's weakness, kept**: when an
+  edge holds two or more collinear points and the scan meets them out of
+  distance order, the polygon zigzags along that edge (the checker reports it
+  as not simple).
+* **The named variant** ``jarvis-march-sorted`` (an improvement on the seed)
+  sorts each iteration's new collinear members by their distance from
+  ``current`` (stable for ties) before adding them, so collinear boundary
+  points come out in boundary order.  Everything else is shared.
 * **Termination guard.**  Step 3.a's result depends on ``current`` only (the
   collinear list is output, never input), so once a ``nextTarget`` that is
   not the leftmost point comes up a second time the wrap would repeat the
@@ -90,14 +99,19 @@ import numpy as np
 from .._registry import register_algorithm
 from ..errors import AlgorithmStepLimit
 from ._predicates2d import as_points_2d, resolve_eps
+from ._variant import SeedVariant
 
-__all__ = ["jarvis_march"]
+__all__ = ["jarvis_march", "jarvis_march_sorted"]
 
-_NAME = "jarvis-march"
 _WINDOW_START = 256  # first numpy window of a scan, doubled while nothing changes
 _WINDOW_MAX = 1 << 16
 _DENSE = 16  # a change this close to the window start: changes are dense here...
 _SCALAR_RUN = 128  # ...so scan this many points in plain Python before trying numpy again
+
+
+#: The result set in insertion order, as written; and collinear points sorted by distance (the improvement).
+LITERAL = SeedVariant("jarvis-march", improved=False)
+SORTED = SeedVariant("jarvis-march-sorted", improved=True)
 
 
 def _leftmost(x: np.ndarray) -> int:
@@ -172,7 +186,7 @@ def _scan(
     return nt, coll
 
 
-def _wrap(pts: np.ndarray, eps: float) -> tuple[int, list[tuple[int, int, list[int]]]]:
+def _wrap(pts: np.ndarray, eps: float, name: str = LITERAL.name) -> tuple[int, list[tuple[int, int, list[int]]]]:
     """Steps 1-3: the leftmost index and, per wrap iteration, (current, nextTarget, collinear list).
 
     Raises
@@ -197,16 +211,46 @@ def _wrap(pts: np.ndarray, eps: float) -> tuple[int, list[tuple[int, int, list[i
             return lm, steps
         if nt in visited:
             raise AlgorithmStepLimit(
-                f"{_NAME}: step 3 (wrap) would never end: point {nt} is nextTarget again after "
+                f"{name}: step 3 (wrap) would never end: point {nt} is nextTarget again after "
                 f"{len(steps)} iterations and the wrap never returns to the leftmost point {lm}"
             )
         visited.add(nt)
         cur = nt  # step 3.d
 
 
-@register_algorithm(_NAME, dim=2)
+def _polygon(pts: np.ndarray, lm: int, steps: list[tuple[int, int, list[int]]], variant: SeedVariant) -> np.ndarray:
+    """Step 3.b-d's additions to the result set, in insertion order, as a counter-clockwise polygon."""
+    order = [lm]
+    in_result = {lm}
+    for cur, nt, coll in steps:
+        new = [t for t in dict.fromkeys(coll) if t not in in_result]  # step 3.b, HashSet.Add
+        if new and variant.improved:
+            d = pts[new] - pts[cur]
+            by_distance = np.argsort(np.sqrt(d[:, 0] * d[:, 0] + d[:, 1] * d[:, 1]), kind="stable")
+            new = [new[j] for j in by_distance]
+        order.extend(new)
+        in_result.update(new)
+        if nt != lm and nt not in in_result:  # step 3.d, HashSet.Add
+            order.append(nt)
+            in_result.add(nt)
+    ccw = [order[0]] + order[:0:-1]  # the wrap ran clockwise
+    return np.asarray(ccw, dtype=np.int64)
+
+
+def _run(points: np.ndarray, eps: float | None, variant: SeedVariant) -> np.ndarray:
+    """Validate, wrap, and lay the result set out as a polygon."""
+    pts = as_points_2d(points, variant.name)
+    tol = resolve_eps(pts, eps, variant.name)
+    if pts.shape[0] == 0:
+        raise ValueError(f"{variant.name}: step 1 (leftmost point) needs at least 1 point, got 0")
+    with np.errstate(invalid="ignore", over="ignore"):
+        lm, steps = _wrap(pts, tol, variant.name)
+        return _polygon(pts, lm, steps, variant)
+
+
+@register_algorithm(LITERAL.name, dim=2)
 def jarvis_march(points: np.ndarray, /, *, eps: float | None = None) -> np.ndarray:
-    """Unity tutorial Jarvis march: wrap from the leftmost point, keeping collinear points.
+    """Unity tutorial Jarvis march: wrap from the leftmost point, keeping collinear points, as written.
 
     Parameters
     ----------
@@ -219,8 +263,9 @@ def jarvis_march(points: np.ndarray, /, *, eps: float | None = None) -> np.ndarr
     Returns
     -------
     ndarray of shape (h,), int64
-        The seed's result set, counter-clockwise in boundary order, starting
-        at the leftmost point; collinear boundary points included.
+        The seed's result set in insertion order (the order its drawing code
+        joins), reversed to run counter-clockwise, starting at the leftmost
+        point; collinear points in the order the scans collected them.
 
     Raises
     ------
@@ -229,35 +274,58 @@ def jarvis_march(points: np.ndarray, /, *, eps: float | None = None) -> np.ndarr
     AlgorithmStepLimit
         When the wrap would never return to the leftmost point.
 
+    See Also
+    --------
+    jarvis_march_sorted : the same, with collinear points in boundary order.
+
     Examples
     --------
     >>> sq = np.array([[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0], [1.0, 0.0], [1.0, 1.0]])
     >>> jarvis_march(sq).tolist()  # keeps 4, the midpoint of the bottom edge
     [0, 4, 1, 2, 3]
+
+    Two points inside the bottom edge, met by the last scan in index order:
+    the nearer one to the edge's end ``(3, 0)`` is row 5, but row 4 was added
+    first, so the polygon runs 0 -> 5 -> 4 -> 1 and doubles back:
+
+    >>> edge = np.array([[0.0, 0.0], [3.0, 0.0], [3.0, 3.0], [0.0, 3.0], [1.0, 0.0], [2.0, 0.0]])
+    >>> jarvis_march(edge).tolist()
+    [0, 5, 4, 1, 2, 3]
     >>> left_edge_middle_first = np.array([[0.0, 1.0], [0.0, 0.0], [0.0, 2.0], [1.0, 0.0], [1.0, 2.0]])
     >>> jarvis_march(left_edge_middle_first)  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
     hullstress.errors.AlgorithmStepLimit: jarvis-march: step 3 (wrap) would never end: ...
     """
-    pts = as_points_2d(points, _NAME)
-    tol = resolve_eps(pts, eps, _NAME)
-    if pts.shape[0] == 0:
-        raise ValueError(f"{_NAME}: step 1 (leftmost point) needs at least 1 point, got 0")
-    with np.errstate(invalid="ignore", over="ignore"):
-        lm, steps = _wrap(pts, tol)
-        order = [lm]
-        in_result = {lm}
-        for cur, nt, coll in steps:
-            new = [t for t in dict.fromkeys(coll) if t not in in_result]  # step 3.b, HashSet.Add
-            if new:
-                d = pts[new] - pts[cur]
-                by_distance = np.argsort(np.sqrt(d[:, 0] * d[:, 0] + d[:, 1] * d[:, 1]), kind="stable")
-                new = [new[j] for j in by_distance]
-                order.extend(new)
-                in_result.update(new)
-            if nt != lm and nt not in in_result:  # step 3.d, HashSet.Add
-                order.append(nt)
-                in_result.add(nt)
-    ccw = [order[0]] + order[:0:-1]  # the wrap ran clockwise
-    return np.asarray(ccw, dtype=np.int64)
+    return _run(points, eps, LITERAL)
+
+
+@register_algorithm(SORTED.name, dim=2)
+def jarvis_march_sorted(points: np.ndarray, /, *, eps: float | None = None) -> np.ndarray:
+    """Jarvis march with each edge's collinear points sorted by distance (a named improvement on the seed).
+
+    Parameters
+    ----------
+    points : ndarray of shape (n, 2), float64
+        Read-only; never written.
+    eps : float or None
+        As for :func:`jarvis_march`.
+
+    Returns
+    -------
+    ndarray of shape (h,), int64
+        The seed's result set, counter-clockwise in boundary order, starting
+        at the leftmost point; collinear boundary points included.
+
+    Raises
+    ------
+    ValueError, AlgorithmStepLimit
+        As for :func:`jarvis_march`.
+
+    Examples
+    --------
+    >>> edge = np.array([[0.0, 0.0], [3.0, 0.0], [3.0, 3.0], [0.0, 3.0], [1.0, 0.0], [2.0, 0.0]])
+    >>> jarvis_march_sorted(edge).tolist()
+    [0, 4, 5, 1, 2, 3]
+    """
+    return _run(points, eps, SORTED)

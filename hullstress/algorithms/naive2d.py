@@ -56,7 +56,16 @@ Speed: the r-loop (1.A) is vectorised.  Every pair is first tried against a
 few points that are extreme in fixed directions (most non-edges have one of
 them on their left), survivors against all points; a pair is rejected only
 after an actual float evaluation ``l^t r - d > eps`` of the seed's formula, so
-the result is identical to the triple loop, only faster.
+the result is identical to the triple loop, only faster.  This reorders the
+r-loop and nothing else: E, the walk and every float value are the seed's.
+It does not change the seed's worst case, O(n^3) ("Algorithm Analysis"):
+on points in convex position on a flat arc the probe directions find only the
+arc's ends and middle, so about n^2/4 ordered pairs reach the full O(n) test
+(and in arc order the seed's own "go to 2", trying r in index order, runs
+about min(i, j) tests for the pair (i, j) before it may stop).
+``benchmarks/bench_algorithms.py`` measures that input as naive-2d's worst
+case; on uniform random points, where the probes reject almost every pair,
+the growth is near n^2.
 """
 
 from __future__ import annotations
