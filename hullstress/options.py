@@ -15,7 +15,7 @@ so the CLI can build its ``--help`` without loading NumPy.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from types import MappingProxyType
 
 from .errors import UsageError
@@ -92,6 +92,13 @@ class Profile:
         Default per-call timeout in seconds.
     triage : TriageBudget
     description : str
+    rotate_sizes : bool
+        Give each family variant one of ``sizes``, rotating through them
+        (every family meets several sizes at the cost of one); False crosses
+        every variant with every size.
+    max_points : mapping of str to int
+        Algorithms that are not given cases above this many points (slow
+        seeds at the profile's largest sizes); the run lists the calls not made.
     """
 
     name: str
@@ -100,29 +107,35 @@ class Profile:
     timeout: float
     triage: TriageBudget
     description: str
+    rotate_sizes: bool = False
+    max_points: Mapping[str, int] = field(default_factory=lambda: MappingProxyType({}))
 
 
 PROFILES: Mapping[str, Profile] = MappingProxyType(
     {
         "quick": Profile(
             name="quick",
-            sizes=MappingProxyType({2: (24,), 3: (24,)}),
+            # A handful, tens and a hundred points: each variant gets one, rotating.
+            sizes=MappingProxyType({2: (8, 24, 100), 3: (8, 24, 100)}),
+            rotate_sizes=True,
             replicates=1,
             timeout=10.0,
-            # The whole run stays under a minute on 2 cores (the sweep takes ~20 s).
             triage=TriageBudget(shrink_total=10.0, shrink_per_group=2.0, total=25.0, pictures=8.0),
-            description="every family and variant once at a small size; under a minute on 2 cores",
+            description="every family and variant once, at sizes rotating through 8, 24 and 100 points",
         ),
         "nightly": Profile(
             name="nightly",
             # Measured on 2 cores: one seed of every family at n=256 is ~100 s of sweep;
             # n=512 roughly quadruples that (naive-2d is O(n^3), Henckel's pivoting O(n h)).
-            sizes=MappingProxyType({2: (16, 64, 256, 512), 3: (16, 64, 256, 512)}),
+            sizes=MappingProxyType({2: (16, 64, 256, 1024, 4096), 3: (16, 64, 256, 1024, 4096)}),
             replicates=2,
             timeout=30.0,
             triage=TriageBudget(shrink_total=300.0, shrink_per_group=30.0, total=900.0, pictures=120.0),
-            description="every family and variant at four sizes up to 512 points with two seeds; "
-            "about 30 minutes on 2 cores",
+            # Measured worst cases (benchmarks/bench_algorithms.py): naive-2d is cubic (21650x
+            # scipy at n=4096), the literal Henckel loops to its step limit on every cloud.
+            max_points=MappingProxyType({"naive-2d": 1024, "henckel": 1024}),
+            description="every family and variant at five sizes from 16 to 4096 points with two seeds "
+            "(naive-2d and the literal henckel up to 1024)",
         ),
     }
 )

@@ -351,8 +351,18 @@ def _metadata(the_run: Run, options: RunOptions, run_metadata: Callable[..., dic
                "calls_planned": the_run.plan.n_calls,
                "budget_exhausted": bool(stats.budget_exhausted) if stats else False,
                "runner": stats.as_dict() if stats else None,
-               "phase_seconds": {k: round(v, 3) for k, v in the_run.seconds.items()}},
+               "phase_seconds": {k: round(v, 3) for k, v in the_run.seconds.items()},
+               "not_reached": _not_reached(the_run)},
     )
+
+
+def _not_reached(the_run: Run) -> dict[str, int]:
+    """Planned calls that did not run, per family (a time budget or an interrupt ended the sweep)."""
+    planned: dict[str, int] = {}
+    for task in the_run.plan.tasks:
+        planned[task.case.family] = planned.get(task.case.family, 0) + len(task.configs)
+    done = the_run.table["generator"].value_counts().to_dict() if len(the_run.table) else {}
+    return {family: n - int(done.get(family, 0)) for family, n in planned.items() if n > done.get(family, 0)}
 
 
 def _save_corpus(options: RunOptions, the_run: Run, timeout: float) -> list[tuple[Path, bool]]:

@@ -34,6 +34,15 @@ def _positive(name: str, value: float | None) -> float | None:
     return value
 
 
+def _transforms(names: list[str]) -> tuple[str, ...]:
+    from generators import TRANSFORMS
+
+    for name in names:
+        if name not in TRANSFORMS:
+            raise UsageError(f"--transform must be one of {', '.join(sorted(TRANSFORMS))}, got {name!r}")
+    return tuple(dict.fromkeys(names))
+
+
 def _memory_limit(value: float) -> float:
     if not value >= 0:
         raise UsageError(f"--memory-limit must be 0 (no limit) or a positive number of MiB, got {value!r}")
@@ -53,8 +62,14 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
                    help="sweep size: quick (default, under a minute) or nightly (about 30 minutes on 2 cores)")
     p.add_argument("--algorithm", action="append", default=[], metavar="NAME",
                    help="run only this algorithm (repeatable; default: every registered one; see `list algorithms`)")
-    p.add_argument("--generator", action="append", default=[], metavar="NAME",
-                   help="use only this generator family (repeatable; default: every family; see `list generators`)")
+    p.add_argument("--generator", action="append", default=[], metavar="NAME[:KEY=VALUE,...]",
+                   help="use only this generator family, every variant; with parameters (e.g. "
+                   "near-coplanar:surface=plane,delta=1e-12) exactly that one (repeatable; default: every "
+                   "family; see `list generators` for each family's parameters)")
+    p.add_argument("--transform", action="append", default=[], metavar="NAME",
+                   help="also run a metamorphic copy of every case that must have the same hull "
+                   "(permute-rows, reverse-rows, scale-pow2, permute-axes, reflect, ...; repeatable); the "
+                   "report lists cases whose verdict the transform changed")
     p.add_argument("--sphere", choices=SPHERE_CHOICES, default=None,
                    help="Kenwright's sphere projection before the algorithm: off, on or both, for every algorithm "
                    "(default: both for in-house algorithms, off for plug-ins, adapters and executables)")
@@ -69,7 +84,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
     p.add_argument("--timeout", type=float, default=None, metavar="SECONDS",
                    help="per-call timeout (default: the profile's)")
     p.add_argument("--time-budget", type=float, default=None, metavar="SECONDS",
-                   help="stop starting new calls after this long; the report covers what ran")
+                   help="stop starting new calls after this long (each family's smallest case always runs); "
+                   "the report covers what ran and says what it did not reach")
     p.add_argument("--memory-limit", type=float, default=DEFAULTS.memory_limit_mb, metavar="MB",
                    help="address-space limit per worker process in MiB; a runaway allocation becomes an "
                    f"error or crash row (default {DEFAULTS.memory_limit_mb:g}; 0 for none)")
@@ -111,6 +127,7 @@ def run_command(args: argparse.Namespace) -> int:
         profile=args.profile,
         algorithms=tuple(args.algorithm),
         generators=tuple(args.generator),
+        transforms=_transforms(args.transform),
         sphere=args.sphere,
         eps=args.eps,
         sizes=parse_sizes(args.sizes) if args.sizes is not None else None,

@@ -27,6 +27,7 @@ from .failures import FailureRecord, draw_picture, write_failure_folder
 from .findings import findings_markdown, findings_reading, findings_table
 from .html import render_html
 from .junit import write_junit
+from .tables import metamorphic_changes
 from .writer import _markdown, write_report
 
 __all__ = ["ReportFiles", "write_run_report"]
@@ -140,6 +141,16 @@ def write_run_report(
         notes.append(f"{no_picture} groups have no picture: the picture budget ({picture_budget:g} s) was spent"
                      " or the run was interrupted.")
 
+    unreached = meta.get("not_reached") or {}
+    if unreached:
+        notes.append("Not reached (the run ended early): " + ", ".join(
+            f"{family} {count} calls" for family, count in sorted(unreached.items())) + ".")
+    if len(table) and (table["transform"].fillna("").astype(str) != "").any():
+        changes = metamorphic_changes(table)
+        atomic_write_text(run_dir / "metamorphic.csv", changes.to_csv(index=False))
+        copies = int((table["transform"].fillna("").astype(str) != "").sum())
+        notes.append(f"Metamorphic copies: {len(changes)} of {copies} calls on a transformed copy gave another "
+                     "verdict than on the original (metamorphic.csv).")
     findings = findings_table(table)
     reading = findings_reading(findings)
     findings_csv = run_dir / "findings.csv"

@@ -68,3 +68,51 @@ def failure_counts(df: pd.DataFrame) -> pd.DataFrame:
     table = table[table[list(STAGE_COUNT_COLUMNS.values())].sum(axis=1) > 0]
     return table.sort_values(["failed", "method_failed", "algorithm", "sphere", "eps", "generator"],
                              ascending=[False, False, True, True, True, True]).reset_index(drop=True)
+
+
+#: Columns of :func:`metamorphic_changes`.
+METAMORPHIC_COLUMNS = ("config", "generator", "dim", "size", "transform", "case_id", "base_case_id",
+                       "base_status", "status", "base_failed_checks", "failed_checks", "reason")
+
+
+def metamorphic_changes(df: pd.DataFrame) -> pd.DataFrame:
+    """Metamorphic copies whose verdict differs from their original's (``run --transform``).
+
+    A copy (a row whose ``transform`` is set) has the same hull as the case
+    it was made from, so a correct algorithm gives the same verdict on both;
+    a change of status or of failed checks shows an answer that depends on
+    the input's order, scale or axes.
+
+    Examples
+    --------
+    >>> base = {"config": "a[sphere=off,eps=n/a]", "generator": "g", "dim": 2, "size": 8, "seed": 1,
+    ...         "params": '{"k":1}', "transform": "", "case_id": "c0", "status": "pass",
+    ...         "failed_checks": "", "reason": ""}
+    >>> copy = dict(base, params='{"k":1,"transform":"permute-rows"}', transform="permute-rows",
+    ...             case_id="c1", status="fail", failed_checks="containment", reason="1 points outside")
+    >>> metamorphic_changes(pd.DataFrame([base, copy]))[["transform", "base_status", "status"]].values.tolist()
+    [['permute-rows', 'pass', 'fail']]
+    """
+    if df.empty or "transform" not in df.columns:
+        return pd.DataFrame(columns=list(METAMORPHIC_COLUMNS))
+    import json
+
+    def base_params(text: object) -> str:
+        params = json.loads(str(text)) if isinstance(text, str) and text else {}
+        params.pop("transform", None)
+        return json.dumps(params, sort_keys=True, separators=(",", ":"))
+
+    transform = df["transform"].fillna("").astype(str)
+    keyed = df.assign(_params=df["params"].map(base_params), _transform=transform)
+    keys = ["config", "generator", "dim", "size", "seed", "_params"]
+    base = keyed[keyed["_transform"] == ""][keys + ["case_id", "status", "failed_checks"]]
+    base = base.rename(columns={"case_id": "base_case_id", "status": "base_status",
+                                "failed_checks": "base_failed_checks"})
+    copies = keyed[keyed["_transform"] != ""]
+    if copies.empty:
+        return pd.DataFrame(columns=list(METAMORPHIC_COLUMNS))
+    joined = copies.merge(base, on=keys, how="inner")
+    same = (joined["status"] == joined["base_status"]) & (
+        joined["failed_checks"].fillna("").astype(str) == joined["base_failed_checks"].fillna("").astype(str))
+    return joined[~same].rename(columns={"_transform": "transform_name"}).assign(
+        transform=lambda t: t["transform_name"])[list(METAMORPHIC_COLUMNS)].reset_index(drop=True)
