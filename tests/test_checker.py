@@ -87,7 +87,7 @@ def test_qhull_hull_of_general_position_3d_is_valid(seed, n):
     assert ref.qhull_ok, ref.qhull_detail
     v = check(pts, ref.faces, reference=ref)
     assert_valid(v)
-    assert v.qhull_agreement is True and v.n_extreme == len(ref.vertices)
+    assert v.qhull_agreement == "agree" and v.n_extreme == len(ref.vertices)
     assert v.volume == pytest.approx(ref.volume, rel=1e-12)
 
 
@@ -97,7 +97,7 @@ def test_qhull_hull_of_general_position_2d_is_valid(seed, n):
     ref = qhull_reference(pts)
     v = check(pts, ref.faces, reference=ref)
     assert_valid(v)
-    assert v.qhull_agreement is True
+    assert v.qhull_agreement == "agree"
     assert v.volume == pytest.approx(ref.volume, rel=1e-12)
 
 
@@ -108,7 +108,7 @@ def test_cube_lattices_with_any_triangulation_are_valid(scale, seed, k):
     pts = pts * scale
     v = check(pts, tri)
     assert v.containment and v.convexity and v.manifoldness, v.detail
-    assert v.qhull_agreement in (True, None)  # None: Qhull itself fails at 1e300 scale
+    assert v.qhull_agreement in ("agree", "qhull-wrong")  # Qhull itself may fail at 1e300 scale
     assert v.n_extreme == 8
     assert v.n_boundary_nonextreme == 6 * (k - 2) ** 2 + 12 * (k - 2)
     assert v.n_hull_vertices == 8 + v.n_boundary_nonextreme
@@ -129,7 +129,7 @@ def test_general_position_at_extreme_scales(scale):
             faces = ref.faces
     v = check(pts, faces)
     assert v.containment and v.convexity and v.manifoldness, v.detail
-    assert v.qhull_agreement in (True, None)
+    assert v.qhull_agreement in ("agree", "qhull-wrong")
 
 
 def test_square_lattice_polygon_with_boundary_points():
@@ -208,7 +208,7 @@ def test_vertex_replaced_by_interior_point(sphere_case):
     v = check(pts, bad, reference=ref, max_offending=len(pts))
     assert not v.containment and not v.convexity
     assert vertex in v.offending["containment"] and vertex in v.offending["missing_extreme"]
-    assert v.qhull_agreement is False and v.severity == "gross"
+    assert v.qhull_agreement == "disagree" and v.severity == "gross"
 
 
 def test_extreme_point_left_out(sphere_case):
@@ -219,7 +219,7 @@ def test_extreme_point_left_out(sphere_case):
     v = check(pts, keep[sub], reference=ref)
     assert v.convexity and v.manifoldness and not v.containment
     assert v.offending["containment"] == (drop,) and v.offending["missing_extreme"] == (drop,)
-    assert v.n_missing_extreme == 1 and v.qhull_agreement is False
+    assert v.n_missing_extreme == 1 and v.qhull_agreement == "disagree"
 
 
 @pytest.mark.parametrize("direction,alarm", [(np.inf, True), (-np.inf, False)])
@@ -336,7 +336,7 @@ def test_verdict_record_and_table_row(sphere_case):
     assert row["qhull_options"] == "Qt" and row["qhull_ok"] is True and row["affine_rank"] == 3
     assert row["distround"] == distround(pts)
     json.loads(row["offending"])
-    assert isinstance(v.containment, bool) and isinstance(v.qhull_agreement, bool)
+    assert isinstance(v.containment, bool) and v.qhull_agreement in ("agree", "disagree", "qhull-wrong")
 
 
 def test_max_offending_limits_the_lists(sphere_case):
@@ -440,7 +440,7 @@ def test_cone_and_brute_containment_agree():
     pts = np.r_[inner, probes]
     he = half_edges(hull, len(pts))
     interior = Interior.from_simplex(pts[witness_simplex(inner)])
-    conv = check_convexity3d(pts, hull, he, interior, closed=True)
+    conv = check_convexity3d(pts, hull, he, closed=True)
     assert conv.ok and conv.center is not None
     fast = check_containment3d(pts, hull, conv.plane, certified=True, center=conv.center, he=he)
     slow = check_containment3d(pts, hull, conv.plane)

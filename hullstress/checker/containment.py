@@ -34,6 +34,8 @@ __all__ = ["Containment", "check_containment3d", "check_containment2d"]
 
 _EPS = 2.0**-53
 _CHUNK = 2_000_000  # entries of the points x facets matrix held at once
+_CONE_CHUNK = 500_000  # (point, cone edge) rows held at once: a big polygon face costs rows, not memory
+_SMALL = 50_000  # below this many point-facet entries, brute force beats the cone machinery
 _WALK_STEPS = 64
 
 
@@ -147,7 +149,7 @@ def _brute(
     """
     if not len(candidates) or not len(planes[0]):
         return np.zeros(0, dtype=np.int64), 0.0
-    if len(planes) == 3 and len(planes[0]) > 1:
+    if len(planes) == 3 and len(planes[0]) > 1 and len(candidates) * len(planes[0]) > _SMALL:
         keep = _distinct_planes(planes)
         planes = [x[keep] for x in planes]
         plane_idx = plane_idx[keep]
@@ -186,6 +188,14 @@ def _brute(
     return np.concatenate(out), max(worst, 0.0)
 
 
+def _unit_rows(v: np.ndarray) -> np.ndarray:
+    """Rows scaled to unit length, for candidate search only (no overflow at 1e300; zero rows stay zero)."""
+    top = np.abs(v).max(axis=1)
+    v = v / np.where(top > 0, top, 1.0)[:, None]  # first to [-1, 1]: the norm cannot overflow
+    norm = np.sqrt(np.einsum("ij,ij->i", v, v))
+    return np.nan_to_num(v / np.where(norm > 0, norm, 1.0)[:, None])
+
+
 def _deep_points(points: np.ndarray, planes: list[np.ndarray], center: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Points within a rigorous inscribed ball around ``center``: strictly below every plane.
 
@@ -206,23 +216,31 @@ def _in_cones(points, center, he: HalfEdges, faces: FaceSet, pts: np.ndarray, ca
     """For each (point, face) pair: all edge signs of the face's cone, reduced per pair.
 
     Returns ``inside`` (point in the closed cone) and, per pair, one half-edge
-    whose plane separates the point from the cone (-1 when inside).
+    whose plane separates the point from the cone (-1 when inside).  Pairs are
+    processed in chunks of at most ``_CONE_CHUNK`` cone edges, so a polygon
+    face with thousands of vertices costs time, not memory.
     """
     sizes = faces.sizes[cand]
-    rows = np.repeat(np.arange(len(cand)), sizes)
-    first = np.repeat(faces.offsets[:-1][cand], sizes)
-    within = np.arange(len(rows)) - np.repeat(np.cumsum(sizes) - sizes, sizes)
-    edge = first + within
-    s = orient3d(center, points[he.src[edge]], points[he.dst[edge]], points[pts[rows]])
-    bad = s > 0
-    starts = np.cumsum(sizes) - sizes
-    inside = ~np.logical_or.reduceat(bad, starts)
-    # The first separating half-edge of each pair (a walk step crosses it).
+    inside = np.zeros(len(cand), dtype=bool)
     exit_edge = np.full(len(cand), -1, dtype=np.int64)
-    bad_rows = np.flatnonzero(bad)
-    if bad_rows.size:
-        first_bad, where = np.unique(rows[bad_rows], return_index=True)
-        exit_edge[first_bad] = edge[bad_rows[where]]
+    ends = np.cumsum(sizes)
+    lo = 0
+    while lo < len(cand):
+        hi = max(lo + 1, int(np.searchsorted(ends, ends[lo] - sizes[lo] + _CONE_CHUNK, side="right")))
+        part = slice(lo, hi)
+        sz = sizes[part]
+        rows = np.repeat(np.arange(hi - lo), sz)
+        starts = np.cumsum(sz) - sz
+        edge = np.repeat(faces.offsets[:-1][cand[part]], sz) + np.arange(len(rows)) - np.repeat(starts, sz)
+        s = orient3d(center, points[he.src[edge]], points[he.dst[edge]], points[pts[part][rows]])
+        bad = s > 0
+        inside[part] = ~np.logical_or.reduceat(bad, starts)
+        # The first separating half-edge of each pair (a walk step crosses it).
+        bad_rows = np.flatnonzero(bad)
+        if bad_rows.size:
+            first_bad, where = np.unique(rows[bad_rows], return_index=True)
+            exit_edge[lo + first_bad] = edge[bad_rows[where]]
+        lo = hi
     return inside, exit_edge
 
 
@@ -263,11 +281,16 @@ def check_containment3d(
     has = np.flatnonzero(plane[:, 0] >= 0)
     tri = plane[has]
     planes = [points[tri[:, 0]], points[tri[:, 1]], points[tri[:, 2]]]
-    if center is None or not len(has):
-        outside, worst = _brute(points, planes, tri, np.arange(n, dtype=np.int64))
+    cones = certified and he is not None and center is not None
+    if n * len(has) <= _SMALL or center is None or not len(has):
+        todo = np.ones(n, dtype=bool)
+        if certified and center is not None:  # the surface's own vertices lie on the certified convex surface
+            todo[faces.indices] = False
+        candidates = np.flatnonzero(todo)
+        outside, worst = _brute(points, planes, tri, candidates)
         return Containment(not outside.size, outside, worst, "brute")
     rel, deep = _deep_points(points, planes, center)
-    if not (certified and he is not None):
+    if not cones:
         # Not certified convex: still, the inscribed ball is below every plane.
         outside, worst = _brute(points, planes, tri, np.flatnonzero(~deep))
         return Containment(not outside.size, outside, worst, "brute")
@@ -278,15 +301,14 @@ def check_containment3d(
 
     # Candidate facets by direction from the center.
     face_ids = has
-    centroid = (planes[0] + planes[1] + planes[2]) / 3.0 - center
     with np.errstate(all="ignore"):
-        centroid /= np.linalg.norm(centroid, axis=1)[:, None]
-        dirs = rel[todo] / np.linalg.norm(rel[todo], axis=1)[:, None]
-    dirs = np.nan_to_num(dirs)
-    centroid = np.nan_to_num(centroid)
+        centroid = _unit_rows((planes[0] + planes[1] + planes[2]) / 3.0 - center)
+        dirs = _unit_rows(rel[todo])
     kk = min(k, len(face_ids))
     _, nearest = cKDTree(centroid).query(dirs, k=kk)
-    nearest = nearest.reshape(len(todo), kk)
+    # A direction the tree could not place (index == len) just gets no candidate: the
+    # walk and brute force below still decide every point exactly.
+    nearest = np.minimum(nearest.reshape(len(todo), kk), len(face_ids) - 1)
     located = np.full(len(todo), -1, dtype=np.int64)
     exits = np.full(len(todo), -1, dtype=np.int64)
     for j in range(kk):
@@ -362,8 +384,12 @@ def check_containment2d(
     a_idx, b_idx = a_idx[keep], b_idx[keep]
     planes = [points[a_idx], points[b_idx]]
     plane_idx = np.stack([a_idx, b_idx], axis=1)
-    if center is None or not len(a_idx):
-        outside, worst = _brute(points, planes, plane_idx, np.arange(n, dtype=np.int64))
+    if n * len(a_idx) <= _SMALL or center is None or not len(a_idx):
+        todo = np.ones(n, dtype=bool)
+        if certified and center is not None and len(a_idx) >= 3:  # vertices of a certified convex polygon
+            todo[polygon] = False
+        candidates = np.flatnonzero(todo)
+        outside, worst = _brute(points, planes, plane_idx, candidates)
         return Containment(not outside.size, outside, worst, "brute")
     rel, deep = _deep_points(points, planes, center)
     if not (certified and len(a_idx) >= 3):
