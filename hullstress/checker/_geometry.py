@@ -110,7 +110,7 @@ def distround(points: np.ndarray) -> float:
     if pts.ndim != 2 or pts.size == 0:
         return 0.0
     d = pts.shape[1]
-    per_axis = np.abs(pts).max(axis=0).tolist()
+    per_axis = [float(np.abs(pts[:, j]).max()) for j in range(d)]  # column-wise: reductions along axis 0 are slow
     maxabs = max(per_axis)
     # Near the top of the double range the sums overflow; Qhull's formula is
     # linear in the magnitude, so evaluate it on the scaled-down maxima instead.
@@ -264,7 +264,8 @@ def inner_radius(planes: list[np.ndarray], center: np.ndarray) -> float:
             n = np.stack([u[:, 1], -u[:, 0]], axis=1)
             err = 2.0 * eps * np.abs(n) + 2.0**-1000
         num_low = num - (num_err * 2.0 + noise)
-        den_up = np.sqrt(((np.abs(n) + err) ** 2).sum(axis=1)) * (1.0 + 1e-12)
+        up = np.abs(n) + err
+        den_up = np.sqrt(np.einsum("ij,ij->i", up, up)) * (1.0 + 1e-12)
         r = num_low / den_up
         if not len(r) or not np.isfinite(r).all():
             return 0.0

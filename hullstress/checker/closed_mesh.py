@@ -105,30 +105,31 @@ def certify_closed_mesh(points: np.ndarray, faces: FaceSet, *, seed: int = 0) ->
     if len(vertices) - e + m != 2:
         return None
 
+    corners = points[vertices]
     mean = vertex_mean(points, vertices)
-    q = ray_point(mean, float(np.abs(points[vertices]).max()), seed)
-    extended = np.vstack([points, mean, q])
+    q = ray_point(mean, float(max(corners.max(), -corners.min())), seed)
     candidates = np.flatnonzero(~is_vertex)
     batch_containment = len(candidates) * m <= _BATCH_CONTAINMENT
     k = len(candidates) if batch_containment else 0
-    # Rows (as point indices; n is the mean, n + 1 the ray point): reflex test (e),
-    # mean below every face (m), wrap number (e), containment (k m), volume (m).
+    # Rows (as point indices; the mean and the ray point are filled in after the
+    # gather): reflex test (e), mean below every face (m), wrap number (e),
+    # containment (k m), volume (m).
     signed = 2 * e + m + k * m
-    idx = np.empty((4, signed + m), dtype=np.int64)
+    idx = np.zeros((4, signed + m), dtype=np.int64)
     idx[:3, :e] = tri[half // 3].T
     idx[3, :e] = src[twin + _BACK[twin % 3]]  # the vertex of the twin's triangle off the edge
     idx[:3, e : e + m] = tri.T
-    idx[3, e : e + m] = n
-    idx[0, e + m : 2 * e + m] = n
     idx[1, e + m : 2 * e + m] = src[half]
     idx[2, e + m : 2 * e + m] = dst[half]
-    idx[3, e + m : 2 * e + m] = n + 1
     if k:
         idx[:3, 2 * e + m : signed] = np.tile(tri.T, k)
         idx[3, 2 * e + m : signed] = np.repeat(candidates, m)
-    idx[:3, signed:] = rotated_to_lowest(faces).indices.reshape(-1, 3).T
-    idx[3, signed:] = vertices[0]
-    coords = extended.T[:, idx]  # (3, 4, rows): coordinate c of the rows' p-th point, contiguous
+    lowest = rotated_to_lowest(faces).indices.reshape(-1, 3)
+    idx[0, signed:], idx[1, signed:], idx[2, signed:], idx[3, signed:] = vertices[0], lowest[:, 1], lowest[:, 0], lowest[:, 2]
+    coords = points.T[:, idx]  # (3, 4, rows): coordinate c of the rows' p-th point, contiguous
+    coords[:, 3, e : e + m] = mean[:, None]
+    coords[:, 0, e + m : 2 * e + m] = mean[:, None]
+    coords[:, 3, e + m : 2 * e + m] = q[:, None]
     det, bound = filter3_columns(coords[:, :3] - coords[:, 3:])
     measure = Measure(3, [coords[:, j, signed:].T for j in range(4)], (det[signed:], bound[signed:]))
     if measure.sign <= 0:
@@ -142,7 +143,7 @@ def certify_closed_mesh(points: np.ndarray, faces: FaceSet, *, seed: int = 0) ->
     inner = np.empty(3 * m, dtype=bool)
     inner[half] = s > 0
     inner[twin] = s < 0
-    if np.count_nonzero(inner.reshape(m, 3).all(axis=1)) != 1:
+    if np.count_nonzero(inner[0::3] & inner[1::3] & inner[2::3]) != 1:
         return None
     if not batch_containment:
         he = half_edges(faces, n) if n * m > _SMALL else None
@@ -209,24 +210,26 @@ def certify_convex_polygon(points: np.ndarray, poly: np.ndarray, *, seed: int = 
     if np.any(np.all(srt[1:] == srt[:-1], axis=1)):
         return None
     mean = vertex_mean(points, poly)
-    q = ray_point(mean, float(np.abs(a).max()), seed)
-    extended = np.vstack([points, mean, q])
+    q = ray_point(mean, float(max(a.max(), -a.min())), seed)
     candidates = np.flatnonzero(~is_vertex)
     c = len(candidates) if len(candidates) * k <= _BATCH_CONTAINMENT else 0
     nxt, prev = np.roll(poly, -1), np.roll(poly, 1)
-    # Rows (n is the mean, n + 1 the ray point): turns (k), mean left of every edge (k),
-    # wrap number (k), containment (c k), area (k).
+    # Rows (the mean and the ray point filled in after the gather): turns (k), mean
+    # left of every edge (k), wrap number (k), containment (c k), area (k).
     signed = 3 * k + c * k
-    idx = np.empty((3, signed + k), dtype=np.int64)
+    idx = np.zeros((3, signed + k), dtype=np.int64)
     idx[0, :k], idx[1, :k], idx[2, :k] = prev, poly, nxt
-    idx[0, k : 2 * k], idx[1, k : 2 * k], idx[2, k : 2 * k] = poly, nxt, n
-    idx[0, 2 * k : 3 * k], idx[1, 2 * k : 3 * k], idx[2, 2 * k : 3 * k] = n, poly, n + 1
+    idx[0, k : 2 * k], idx[1, k : 2 * k] = poly, nxt
+    idx[1, 2 * k : 3 * k] = poly
     if c:
         idx[0, 3 * k : signed] = np.tile(poly, c)
         idx[1, 3 * k : signed] = np.tile(nxt, c)
         idx[2, 3 * k : signed] = np.repeat(candidates, k)
-    idx[0, signed:], idx[1, signed:], idx[2, signed:] = poly, nxt, poly.min()
-    coords = extended.T[:, idx]  # (2, 3, rows)
+    idx[0, signed:], idx[1, signed:], idx[2, signed:] = poly.min(), poly, nxt
+    coords = points.T[:, idx]  # (2, 3, rows)
+    coords[:, 2, k : 2 * k] = mean[:, None]
+    coords[:, 0, 2 * k : 3 * k] = mean[:, None]
+    coords[:, 2, 2 * k : 3 * k] = q[:, None]
     det, bound = filter2_columns(coords[:, :2] - coords[:, 2:])
     measure = Measure(2, [coords[:, j, signed:].T for j in range(3)], (det[signed:], bound[signed:]))
     if measure.sign <= 0:

@@ -26,7 +26,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..contract import FaceSet
-from ._geometry import inner_radius
+from ._geometry import cross3, inner_radius
 from .predicates import orient2d, orient3d
 from .topology import HalfEdges
 
@@ -60,6 +60,22 @@ class Containment:
     method: str
 
 
+def _row_max(v: np.ndarray) -> np.ndarray:
+    """Largest entry of each row of a (k, d) array, column by column (numpy's axis=1 reduction is slow on narrow rows)."""
+    out = v[:, 0].copy()
+    for j in range(1, v.shape[1]):
+        np.maximum(out, v[:, j], out=out)
+    return out
+
+
+def _row_sum(v: np.ndarray) -> np.ndarray:
+    """Sum of each row of a (k, d) array, left to right (as ``v.sum(axis=1)`` adds so few terms)."""
+    out = v[:, 0].copy()
+    for j in range(1, v.shape[1]):
+        out += v[:, j]
+    return out
+
+
 def _facet_bounds(planes: list[np.ndarray], pmax: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Float outward normals, offsets and a per-facet bound on the error of ``normal . p - offset``.
 
@@ -75,7 +91,7 @@ def _facet_bounds(planes: list[np.ndarray], pmax: float) -> tuple[np.ndarray, np
         if len(planes) == 3:
             a, b, c = planes
             u, v = b - a, c - a
-            n = np.cross(u, v)
+            n = cross3(u, v)
             terms = np.abs(np.stack([u[:, 1] * v[:, 2], u[:, 2] * v[:, 1], u[:, 2] * v[:, 0], u[:, 0] * v[:, 2], u[:, 0] * v[:, 1], u[:, 1] * v[:, 0]], axis=1))
             err = 8.0 * _EPS * (terms[:, 0::2] + terms[:, 1::2]) + 2.0**-1000
         else:
@@ -84,8 +100,9 @@ def _facet_bounds(planes: list[np.ndarray], pmax: float) -> tuple[np.ndarray, np
             n = np.stack([u[:, 1], -u[:, 0]], axis=1)
             err = 4.0 * _EPS * np.abs(n) + 2.0**-1000
         offset = np.einsum("ij,ij->i", n, a)
-        amax = np.abs(a).max(axis=1)
-        bound = 2.0 * (err.sum(axis=1) + 16.0 * _EPS * np.abs(n).sum(axis=1)) * (pmax + amax) + 2.0**-1000
+        amax = _row_max(np.abs(a))
+        slack = err + 16.0 * _EPS * np.abs(n)
+        bound = 2.0 * _row_sum(slack) * (pmax + amax) + 2.0**-1000
     return n, offset, bound
 
 
@@ -157,7 +174,8 @@ def _brute(
     n, offset, bound = _facet_bounds(planes, pmax)
     with np.errstate(all="ignore"):
         norm = np.sqrt(np.einsum("ij,ij->i", n, n))
-    finite = np.isfinite(n).all(axis=1) & np.isfinite(offset) & np.isfinite(bound)
+    with np.errstate(all="ignore"):
+        finite = np.isfinite(offset) & np.isfinite(bound) & np.isfinite(_row_sum(n))
     m = len(n)
     chunk = max(1, _CHUNK // max(m, 1))
     out = []
@@ -190,7 +208,7 @@ def _brute(
 
 def _unit_rows(v: np.ndarray) -> np.ndarray:
     """Rows scaled to unit length, for candidate search only (no overflow at 1e300; zero rows stay zero)."""
-    top = np.abs(v).max(axis=1)
+    top = _row_max(np.abs(v))
     v = v / np.where(top > 0, top, 1.0)[:, None]  # first to [-1, 1]: the norm cannot overflow
     norm = np.sqrt(np.einsum("ij,ij->i", v, v))
     return np.nan_to_num(v / np.where(norm > 0, norm, 1.0)[:, None])
@@ -212,14 +230,26 @@ def _deep_points(points: np.ndarray, planes: list[np.ndarray], center: np.ndarra
 # --------------------------------------------------------------------------- 3D
 
 
-def _in_cones(points, center, he: HalfEdges, faces: FaceSet, pts: np.ndarray, cand: np.ndarray):
+def _cone_planes(points: np.ndarray, center: np.ndarray, he: HalfEdges, pmax: float):
+    """Per half-edge (u, v): the plane through ``center``, u and v, as float normal, offset and error bound.
+
+    ``normal . p - offset`` approximates ``-orient3d(center, u, v, p)`` within
+    the bound (:func:`_facet_bounds`): positive on the cone's inner side.
+    """
+    return _facet_bounds([center[None, :], points[he.src], points[he.dst]], pmax)
+
+
+def _in_cones(points, center, he: HalfEdges, faces: FaceSet, pts: np.ndarray, cand: np.ndarray, cones):
     """For each (point, face) pair: all edge signs of the face's cone, reduced per pair.
 
     Returns ``inside`` (point in the closed cone) and, per pair, one half-edge
-    whose plane separates the point from the cone (-1 when inside).  Pairs are
-    processed in chunks of at most ``_CONE_CHUNK`` cone edges, so a polygon
-    face with thousands of vertices costs time, not memory.
+    whose plane separates the point from the cone (-1 when inside).  Each
+    sign comes from the float cone planes (:func:`_cone_planes`) where their
+    bound decides it, from the exact orient3d otherwise.  Pairs are processed
+    in chunks of at most ``_CONE_CHUNK`` cone edges, so a polygon face with
+    thousands of vertices costs time, not memory.
     """
+    normal, offset, bound = cones
     sizes = faces.sizes[cand]
     inside = np.zeros(len(cand), dtype=bool)
     exit_edge = np.full(len(cand), -1, dtype=np.int64)
@@ -232,8 +262,14 @@ def _in_cones(points, center, he: HalfEdges, faces: FaceSet, pts: np.ndarray, ca
         rows = np.repeat(np.arange(hi - lo), sz)
         starts = np.cumsum(sz) - sz
         edge = np.repeat(faces.offsets[:-1][cand[part]], sz) + np.arange(len(rows)) - np.repeat(starts, sz)
-        s = orient3d(center, points[he.src[edge]], points[he.dst[edge]], points[pts[part][rows]])
-        bad = s > 0
+        p = points[pts[part][rows]]
+        with np.errstate(all="ignore"):
+            s = np.einsum("ij,ij->i", normal[edge], p) - offset[edge]
+        bad = s < -bound[edge]
+        gray = np.flatnonzero(~bad & ~(s > bound[edge]))
+        if gray.size:
+            e = edge[gray]
+            bad[gray] = orient3d(center, points[he.src[e]], points[he.dst[e]], p[gray]) > 0
         inside[part] = ~np.logical_or.reduceat(bad, starts)
         # The first separating half-edge of each pair (a walk step crosses it).
         bad_rows = np.flatnonzero(bad)
@@ -252,7 +288,7 @@ def check_containment3d(
     certified: bool = False,
     center: np.ndarray | None = None,
     he: HalfEdges | None = None,
-    k: int = 4,
+    k: int = 1,
 ) -> Containment:
     """Check that no point lies strictly outside any facet plane of a 3D surface.
 
@@ -305,6 +341,7 @@ def check_containment3d(
         centroid = _unit_rows((planes[0] + planes[1] + planes[2]) / 3.0 - center)
         dirs = _unit_rows(rel[todo])
     kk = min(k, len(face_ids))
+    cones = _cone_planes(points, center, he, float(np.abs(points[todo]).max()))
     _, nearest = cKDTree(centroid).query(dirs, k=kk)
     # A direction the tree could not place (index == len) just gets no candidate: the
     # walk and brute force below still decide every point exactly.
@@ -316,7 +353,7 @@ def check_containment3d(
         if not open_.size:
             break
         cand = face_ids[nearest[open_, j]]
-        inside, exit_edge = _in_cones(points, center, he, faces, todo[open_], cand)
+        inside, exit_edge = _in_cones(points, center, he, faces, todo[open_], cand, cones)
         located[open_[inside]] = cand[inside]
         if j == 0:
             exits[open_] = exit_edge
@@ -332,7 +369,7 @@ def check_containment3d(
         if not open_.size:
             break
         cand = he.face[twin]
-        inside, walk = _in_cones(points, center, he, faces, todo[open_], cand)
+        inside, walk = _in_cones(points, center, he, faces, todo[open_], cand, cones)
         located[open_[inside]] = cand[inside]
         open_, walk = open_[~inside], walk[~inside]
     lost = todo[located < 0]

@@ -91,7 +91,7 @@ def wrap_number_3d(
     nxt[last] = faces.offsets[:-1]
     v = points[faces.indices[nxt]]
     origin = center if center is not None else interior.approx
-    q = ray_point(origin, float(np.abs(u).max()), seed)
+    q = ray_point(origin, float(max(u.max(), -u.min())), seed)
     if center is not None:
         s = -orient3d(center, u, v, q)  # > 0: q strictly on the inner side of the plane (o, u, v)
     else:
@@ -152,7 +152,7 @@ def wrap_number_2d(
     """
     a = points[poly]
     origin = center if center is not None else interior.approx
-    q = ray_point(origin, float(np.abs(a).max()), seed)
+    q = ray_point(origin, float(max(a.max(), -a.min())), seed)
     if center is not None:
         s = orient2d(center, a, q)
     else:
