@@ -22,7 +22,7 @@ chain; in 3D with neither hull certified it is unknown (``n_extreme=None``).
 
 from __future__ import annotations
 
-import dataclasses
+import copy
 from fractions import Fraction
 from typing import Any
 
@@ -247,8 +247,9 @@ def check(
         # The same faces over the same points: the verdict is a function of the reference alone.
         if "own verdict" not in reference.memo:
             reference.memo["own verdict"] = _assemble(pts, scaled, k, rank, reference.certificate, reference, max_offending)
-        cached = reference.memo["own verdict"]
-        return dataclasses.replace(cached, offending=dict(cached.offending))  # a certified hull offends nothing
+        verdict = copy.copy(reference.memo["own verdict"])
+        object.__setattr__(verdict, "offending", {})  # a certified hull offends nothing; a fresh dict per caller
+        return verdict
     return _assemble(pts, scaled, k, rank, certify(scaled, normalised), reference, max_offending)
 
 

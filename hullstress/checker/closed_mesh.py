@@ -83,7 +83,7 @@ def certify_closed_mesh(points: np.ndarray, faces: FaceSet, *, seed: int = 0) ->
     n = len(points)
     tri = triangle_array(faces)
     m = len(tri)
-    if m < 4 or np.any((tri[:, 0] == tri[:, 1]) | (tri[:, 1] == tri[:, 2]) | (tri[:, 0] == tri[:, 2])):
+    if m < 4:  # (a triangle repeating a vertex fails the mean-below test below: it is flat)
         return None
     # Half-edge j runs src[j] -> dst[j] in triangle j // 3; its twin runs back.
     src = tri.ravel()

@@ -56,10 +56,10 @@ def rotated_to_lowest(faces: FaceSet) -> FaceSet:
     tri = triangle_array(faces)
     if tri is not None:
         a, b, c = tri.T
+        if (a < b).all() and (a < c).all():  # already so (Qhull's faces are stored that way)
+            return faces
         from_b = (b < a) & (b <= c)  # the first position of the lowest index
         from_c = (c < a) & (c < b)
-        if not (from_b.any() or from_c.any()):  # already so (Qhull's faces are stored that way)
-            return faces
         out = tri.copy()
         out[from_b] = tri[from_b][:, [1, 2, 0]]
         out[from_c] = tri[from_c][:, [2, 0, 1]]

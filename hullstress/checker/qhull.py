@@ -170,7 +170,7 @@ class QhullReference:
         """Whether ``faces`` (normalised) is exactly Qhull's face set, in any order and rotation."""
         if self.face_key is None:
             return False
-        key = face_set_key(faces)
+        key = face_set_key(faces, self.n_points)
         return key is not None and key.shape == self.face_key.shape and bool(np.array_equal(key, self.face_key))
 
     def as_dict(self) -> dict:
@@ -221,25 +221,30 @@ def _run_qhull(points: np.ndarray) -> tuple[ConvexHull | None, str | None, tuple
     return None, None, tuple(attempts)
 
 
-def face_set_key(faces: np.ndarray | FaceSet) -> np.ndarray | None:
+def face_set_key(faces: np.ndarray | FaceSet, n_points: int) -> np.ndarray | None:
     """A canonical form of a face set: equal keys mean the same faces, orientation included.
 
-    3D triangles: each rotated to start at its lowest index, then sorted.  2D:
-    the vertex cycle rotated to start at its lowest index.  None for polygon
-    faces with more than three vertices (never compared).
+    3D triangles: each rotated to start at its lowest index, then sorted (as
+    one integer per triangle when the indices allow).  2D: the vertex cycle
+    rotated to start at its lowest index.  None for polygon faces with more
+    than three vertices (never compared).
 
     Examples
     --------
-    >>> a = face_set_key(FaceSet.from_triangles([[2, 0, 1], [3, 1, 0]]))
-    >>> b = face_set_key(FaceSet.from_triangles([[0, 3, 1], [0, 1, 2]]))
+    >>> a = face_set_key(FaceSet.from_triangles([[2, 0, 1], [3, 1, 0]]), 4)
+    >>> b = face_set_key(FaceSet.from_triangles([[0, 3, 1], [0, 1, 2]]), 4)
     >>> bool(np.array_equal(a, b))
     True
     """
     if isinstance(faces, FaceSet):
         if triangle_array(faces) is None:
             return None
-        tri = rotated_to_lowest(faces).indices.reshape(-1, 3)
-        return tri[np.lexsort((tri[:, 2], tri[:, 1], tri[:, 0]))]
+        a, b, c = rotated_to_lowest(faces).indices.reshape(-1, 3).T
+        n = max(int(n_points), 1)
+        if n < 2**21:  # one int64 per triangle (indices are below n_points)
+            return np.sort((a * n + b) * n + c)
+        tri = np.stack([a, b, c], axis=1)
+        return tri[np.lexsort((c, b, a))]
     poly = np.asarray(faces, dtype=np.int64)
     return np.roll(poly, -int(np.argmin(poly))) if len(poly) else poly
 
@@ -421,7 +426,7 @@ def qhull_reference(points: np.ndarray) -> QhullReference:
         scaled=scaled,
         exponent=exponent,
         certificate=cert,
-        face_key=face_set_key(faces),
+        face_key=face_set_key(faces, n),
     )
 
 
