@@ -4,6 +4,8 @@ Part 1, the sizes the sweep runs (``--sizes``, default 24, 100, 1000; 2D and
 3D): many clouds uniform in a ball, each checked once per round; per call:
 
 * ``ConvexHull``: scipy's Qhull build (default options), the yardstick;
+* ``ConvexHull + orienting``: the build plus turning its triangles outward
+  (the README's ``my_quickhull`` plug-in, the algorithm issue 19 timed);
 * ``check``: :func:`hullstress.checker.check` of Qhull's hull with default
   settings, i.e. building and certifying the Qhull reference itself;
 * ``check, reference given``: what the sweep pays per algorithm output (the
@@ -96,10 +98,23 @@ def qconvex_times(points: np.ndarray, repeat: int) -> tuple[float, float] | None
         return best([]), best(["Tv"])
 
 
+def oriented_hull(points: np.ndarray) -> np.ndarray:
+    """scipy's hull as an algorithm returns it: 2D vertex cycle, or 3D triangles turned outward."""
+    hull = ConvexHull(points)
+    if points.shape[1] == 2:
+        return hull.vertices
+    tri = hull.simplices.copy()
+    a, b, c = (points[tri[:, k]] for k in range(3))
+    inward = np.einsum("ij,ij->i", np.cross(b - a, c - a), hull.equations[:, :3]) < 0
+    tri[inward] = tri[inward][:, ::-1]
+    return tri
+
+
 def small_sizes(sizes: list[int], repeat: int, seed: int, clock) -> list[str]:
     lines = [
-        "| dim | n | clouds | ConvexHull ms | check ms | check / ConvexHull | reference given | --no-qhull |",
-        "| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |",
+        "| dim | n | clouds | ConvexHull ms | check ms | check / ConvexHull | check / (ConvexHull + orienting) "
+        "| reference given | --no-qhull |",
+        "| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |",
     ]
     for dim in (3, 2):
         for n in sizes:
@@ -109,7 +124,7 @@ def small_sizes(sizes: list[int], repeat: int, seed: int, clock) -> list[str]:
             for _ in range(clouds):
                 pts = ball(rng, n, dim)
                 ref = qhull_reference(pts)
-                faces = ref.faces if dim == 2 else ref.faces.triangles()[:, [1, 2, 0]].copy()  # as an algorithm returns them
+                faces = oriented_hull(pts)
                 verdict = check(pts, faces)
                 if not verdict.ok:
                     raise SystemExit(f"unexpected verdict on Qhull's hull (n={n}, dim={dim}): {verdict.detail}")
@@ -117,6 +132,7 @@ def small_sizes(sizes: list[int], repeat: int, seed: int, clock) -> list[str]:
             t = best_per_call(
                 {
                     "hull": lambda p, f, r: ConvexHull(p),
+                    "oriented": lambda p, f, r: oriented_hull(p),
                     "check": lambda p, f, r: check(p, f),
                     "given": lambda p, f, r: check(p, f, reference=r),
                     "exact": lambda p, f, r: check(p, f, qhull=False),
@@ -128,7 +144,7 @@ def small_sizes(sizes: list[int], repeat: int, seed: int, clock) -> list[str]:
             h = t["hull"]
             lines.append(
                 f"| {dim} | {n} | {clouds} | {h * 1e3:.3f} | {t['check'] * 1e3:.3f} | {t['check'] / h:.1f}x "
-                f"| {t['given'] / h:.2f}x | {t['exact'] / h:.1f}x |"
+                f"| {t['check'] / t['oriented']:.1f}x | {t['given'] / h:.2f}x | {t['exact'] / h:.1f}x |"
             )
     return lines
 
@@ -137,7 +153,7 @@ def large(n: int, repeat: int, seed: int, brute: bool, clock) -> list[str]:
     points = ball(np.random.default_rng(seed), n, 3)
     hull = ConvexHull(points)
     ref = qhull_reference(points)
-    faces = ref.faces.triangles()[:, [1, 2, 0]].copy()
+    faces = oriented_hull(points)
     verdict = check(points, faces, reference=ref)
     if not verdict.ok:
         raise SystemExit(f"unexpected verdict on Qhull's hull: {verdict.detail}")

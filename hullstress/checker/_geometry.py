@@ -27,6 +27,7 @@ __all__ = [
     "cross3",
     "triangle_array",
     "vertex_mean",
+    "axis_extents",
 ]
 
 _EPS52 = 2.0**-52  # Qhull's REALepsilon
@@ -38,7 +39,7 @@ _UNSCALED_LOW = 2.0**-100
 _UNSCALED_HIGH = 2.0**100
 
 
-def exact_scale(points: np.ndarray) -> tuple[np.ndarray, int]:
+def exact_scale(points: np.ndarray, *, top: float | None = None) -> tuple[np.ndarray, int]:
     """Scale by a power of two so the largest magnitude is in [0.5, 1), when needed and exact.
 
     Every orientation sign is invariant under a positive scaling, so the checks
@@ -52,6 +53,8 @@ def exact_scale(points: np.ndarray) -> tuple[np.ndarray, int]:
     Parameters
     ----------
     points : ndarray of shape (n, d), float64, finite
+    top : float or None
+        The largest coordinate magnitude, when the caller knows it.
 
     Returns
     -------
@@ -70,21 +73,28 @@ def exact_scale(points: np.ndarray) -> tuple[np.ndarray, int]:
     pts = np.asarray(points, dtype=np.float64)
     if pts.size == 0:
         return pts, 0
-    top = float(max(pts.max(), -pts.min()))
+    if top is None:
+        top = float(max(pts.max(), -pts.min()))
     if top == 0.0 or _UNSCALED_LOW <= top <= _UNSCALED_HIGH:
         return pts, 0
     k = -int(np.frexp(top)[1])
-    scaled = np.ldexp(pts, k)
+    # Two exact power-of-two factors (one could overflow): as exact as ldexp, and much faster.
+    scaled = pts * 2.0 ** (k // 2) * 2.0 ** (k - k // 2)
     if k > 0:  # scaling up below 1 never rounds
         return scaled, k
     # Scaling down rounds only values that fall below the normal range.
     low = np.abs(pts[pts != 0]).min()
-    if np.ldexp(low, k) >= 2.0**-1022 or np.array_equal(np.ldexp(scaled, -k), pts):
+    if math.ldexp(float(low), k) >= 2.0**-1022 or np.array_equal(np.ldexp(scaled, -k), pts):
         return scaled, k
     return pts, 0
 
 
-def distround(points: np.ndarray) -> float:
+def axis_extents(points: np.ndarray) -> list[float]:
+    """The largest coordinate magnitude along each axis (column by column: numpy's axis-0 reduction is slow)."""
+    return [float(np.abs(points[:, j]).max()) for j in range(points.shape[1])] if len(points) else []
+
+
+def distround(points: np.ndarray, *, extents: list[float] | None = None) -> float:
     """Qhull's DISTround for ``points``: the rounding error of a distance computation.
 
     ``eps * (d * min(sqrt(d) * MAXabs, MAXsumcoord) * 1.01 + MAXabs)`` with
@@ -95,6 +105,8 @@ def distround(points: np.ndarray) -> float:
     Parameters
     ----------
     points : ndarray of shape (n, d), float64
+    extents : list of float or None
+        :func:`axis_extents` of ``points``, when the caller has them.
 
     Returns
     -------
@@ -110,7 +122,7 @@ def distround(points: np.ndarray) -> float:
     if pts.ndim != 2 or pts.size == 0:
         return 0.0
     d = pts.shape[1]
-    per_axis = [float(np.abs(pts[:, j]).max()) for j in range(d)]  # column-wise: reductions along axis 0 are slow
+    per_axis = axis_extents(pts) if extents is None else extents
     maxabs = max(per_axis)
     # Near the top of the double range the sums overflow; Qhull's formula is
     # linear in the magnitude, so evaluate it on the scaled-down maxima instead.
@@ -179,9 +191,9 @@ def triangle_array(faces) -> np.ndarray | None:
     return None
 
 
-def vertex_mean(points: np.ndarray, vertices: np.ndarray) -> np.ndarray:
-    """The float mean of ``points[vertices]`` (one formula, so every check picks the same candidate point)."""
-    return points[vertices].sum(axis=0) / len(vertices)
+def vertex_mean(corners: np.ndarray) -> np.ndarray:
+    """The float mean of a surface's vertices (one formula, so every check picks the same candidate point)."""
+    return corners.sum(axis=0) / len(corners)
 
 
 def cross3(u: np.ndarray, v: np.ndarray) -> np.ndarray:

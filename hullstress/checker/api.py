@@ -22,7 +22,6 @@ chain; in 3D with neither hull certified it is unknown (``n_extreme=None``).
 
 from __future__ import annotations
 
-import copy
 from fractions import Fraction
 from typing import Any
 
@@ -247,8 +246,8 @@ def check(
         # The same faces over the same points: the verdict is a function of the reference alone.
         if "own verdict" not in reference.memo:
             reference.memo["own verdict"] = _assemble(pts, scaled, k, rank, reference.certificate, reference, max_offending)
-        verdict = copy.copy(reference.memo["own verdict"])
-        object.__setattr__(verdict, "offending", {})  # a certified hull offends nothing; a fresh dict per caller
+        verdict = object.__new__(Verdict)  # a shallow copy (frozen record), with a fresh offending dict
+        verdict.__dict__.update(reference.memo["own verdict"].__dict__, offending={})
         return verdict
     return _assemble(pts, scaled, k, rank, certify(scaled, normalised), reference, max_offending)
 

@@ -93,8 +93,9 @@ def certify_closed_mesh(points: np.ndarray, faces: FaceSet, *, seed: int = 0) ->
     ordered = key[order]
     if np.any(ordered[1:] == ordered[:-1]):
         return None
-    pos = np.minimum(np.searchsorted(ordered, dst * n + src), len(key) - 1)
-    if np.any(ordered[pos] != dst * n + src):
+    reverse = dst * n + src
+    pos = np.minimum(np.searchsorted(ordered, reverse), len(key) - 1)
+    if np.any(ordered[pos] != reverse):
         return None
     half = np.flatnonzero(src < dst)  # one half-edge per edge
     twin = order[pos[half]]
@@ -106,7 +107,7 @@ def certify_closed_mesh(points: np.ndarray, faces: FaceSet, *, seed: int = 0) ->
         return None
 
     corners = points[vertices]
-    mean = vertex_mean(points, vertices)
+    mean = vertex_mean(corners)
     q = ray_point(mean, float(max(corners.max(), -corners.min())), seed)
     candidates = np.flatnonzero(~is_vertex)
     batch_containment = len(candidates) * m <= _BATCH_CONTAINMENT
@@ -136,7 +137,7 @@ def certify_closed_mesh(points: np.ndarray, faces: FaceSet, *, seed: int = 0) ->
         return None
     sign = exact_signs3(det[:signed], bound[:signed], [coords[:, j, :signed].T for j in range(4)])
     reflex, below = sign[:e], sign[e : e + m]
-    if (below <= 0).any() or (reflex < 0).any() or not (reflex > 0).any() or (sign[2 * e + m :] < 0).any():
+    if below.min() <= 0 or reflex.min() < 0 or reflex.max() <= 0 or (k and sign[2 * e + m :].min() < 0):
         return None
     s = -sign[e + m : 2 * e + m]  # > 0: q strictly on the inner side of the plane (mean, u, v)
     break_ties_3d(s, src[half], dst[half], mean, None, points)
@@ -209,7 +210,7 @@ def certify_convex_polygon(points: np.ndarray, poly: np.ndarray, *, seed: int = 
     srt = a[np.lexsort(a.T[::-1])]
     if np.any(np.all(srt[1:] == srt[:-1], axis=1)):
         return None
-    mean = vertex_mean(points, poly)
+    mean = vertex_mean(a)
     q = ray_point(mean, float(max(a.max(), -a.min())), seed)
     candidates = np.flatnonzero(~is_vertex)
     c = len(candidates) if len(candidates) * k <= _BATCH_CONTAINMENT else 0
@@ -236,7 +237,7 @@ def certify_convex_polygon(points: np.ndarray, poly: np.ndarray, *, seed: int = 
         return None
     sign = exact_signs2(det[:signed], bound[:signed], [coords[:, j, :signed].T for j in range(3)])
     turn, left = sign[:k], sign[k : 2 * k]
-    if (turn < 0).any() or not (turn > 0).any() or (left <= 0).any() or (sign[3 * k :] < 0).any():
+    if turn.min() < 0 or turn.max() <= 0 or left.min() <= 0 or (c and sign[3 * k :].min() < 0):
         return None
     s = sign[2 * k : 3 * k].copy()
     break_ties_2d(s, a, mean, None)

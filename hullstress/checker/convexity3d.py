@@ -346,7 +346,7 @@ def check_convexity3d(
     has_plane = np.flatnonzero(~no_plane)
     pa, pb, pc = points[plane[has_plane, 0]], points[plane[has_plane, 1]], points[plane[has_plane, 2]]
     vertices = np.unique(faces.indices)
-    mean = vertex_mean(points, vertices) if len(vertices) else None
+    mean = vertex_mean(points[vertices]) if len(vertices) else None
     center = None
     interior = None
     flipped = np.zeros(0, dtype=np.int64)

@@ -34,16 +34,28 @@ from ..contract import FaceSet
 from ._geometry import cross3, triangle_array
 from .predicates import exact_det_sum, float_det_sum, sum_with_bound
 
-__all__ = ["Measure", "surface_measure", "surface_area", "compare", "rotated_to_lowest", "to_float", "measure_rows"]
+__all__ = ["Measure", "surface_measure", "surface_area", "compare", "rotated_to_lowest", "triangle_keys", "to_float", "measure_rows"]
 
 #: The recorded value is the float estimate when its error bound is this small relative to it.
 _ACCURATE = 2.0**-44
 
 
+def triangle_keys(tri: np.ndarray, n: int) -> np.ndarray:
+    """One integer per oriented triangle, the same for its three rotations: ``(a n + b) n + c``
+    of the lexicographically smallest rotation ``(a, b, c)``.  ``n`` exceeds every index
+    and ``n**3 < 2**63``."""
+    a, b, c = tri.T
+    return np.minimum(np.minimum((a * n + b) * n + c, (b * n + c) * n + a), (c * n + a) * n + b)
+
+
 def rotated_to_lowest(faces: FaceSet) -> FaceSet:
     """Each face's cycle rotated to start at its lowest vertex index (orientation kept).
 
-    ``faces`` must be normalised (every face at least three vertices).
+    ``faces`` must be normalised (every face at least three vertices).  A
+    face that repeats its lowest index (a degenerate one) starts at the
+    occurrence giving the smallest sequence (triangles) or at the first
+    (larger polygons): either way a function of the face, not of how it was
+    listed.
 
     Examples
     --------
@@ -58,11 +70,18 @@ def rotated_to_lowest(faces: FaceSet) -> FaceSet:
         a, b, c = tri.T
         if (a < b).all() and (a < c).all():  # already so (Qhull's faces are stored that way)
             return faces
-        from_b = (b < a) & (b <= c)  # the first position of the lowest index
-        from_c = (c < a) & (c < b)
-        out = tri.copy()
-        out[from_b] = tri[from_b][:, [1, 2, 0]]
-        out[from_c] = tri[from_c][:, [2, 0, 1]]
+        n = int(idx.max()) + 1
+        if n < 2**21:
+            key = triangle_keys(tri, n)
+            out = np.empty_like(tri)
+            out[:, 0], rest = np.divmod(key, n * n)
+            out[:, 1], out[:, 2] = np.divmod(rest, n)
+        else:
+            from_b = (b < a) & (b <= c)
+            from_c = (c < a) & (c < b)
+            out = tri.copy()
+            out[from_b] = tri[from_b][:, [1, 2, 0]]
+            out[from_c] = tri[from_c][:, [2, 0, 1]]
         return FaceSet(out.ravel(), faces.offsets)
     sizes = faces.sizes
     starts = faces.offsets[:-1]

@@ -193,7 +193,7 @@ def check_polygon2d(
     # The vertices' mean first (a strict left turn proves the vertices are not collinear);
     # the exact centroid of a triangle of the vertices when that fails or the polygon
     # already failed, so that the edges it is not left of are named.
-    mean = vertex_mean(points, poly)
+    mean = vertex_mean(a)
     if not rc and (turn > 0).any() and bool(np.all(orient2d(a, b, mean) > 0)):
         center = mean
     else:

@@ -24,10 +24,10 @@ import numpy as np
 from scipy.spatial import ConvexHull, QhullError
 
 from ..contract import FaceSet
-from ._geometry import Interior, cross3, distround, exact_scale, triangle_array
+from ._geometry import Interior, axis_extents, cross3, distround, exact_scale, triangle_array
 from .certify import Certificate, certify
 from .extreme import exact_extreme_2d, first_of_each
-from .measure import rotated_to_lowest, surface_area
+from .measure import rotated_to_lowest, surface_area, triangle_keys
 from .predicates import orient3d_mean
 from .rank import witness_simplex
 from .severity import VOLUME_TOLERANCE_MULTIPLE
@@ -239,12 +239,11 @@ def face_set_key(faces: np.ndarray | FaceSet, n_points: int) -> np.ndarray | Non
     if isinstance(faces, FaceSet):
         if triangle_array(faces) is None:
             return None
-        a, b, c = rotated_to_lowest(faces).indices.reshape(-1, 3).T
         n = max(int(n_points), 1)
         if n < 2**21:  # one int64 per triangle (indices are below n_points)
-            return np.sort((a * n + b) * n + c)
-        tri = np.stack([a, b, c], axis=1)
-        return tri[np.lexsort((c, b, a))]
+            return np.sort(triangle_keys(triangle_array(faces), n))
+        a, b, c = rotated_to_lowest(faces).indices.reshape(-1, 3).T
+        return np.stack([a, b, c], axis=1)[np.lexsort((c, b, a))]
     poly = np.asarray(faces, dtype=np.int64)
     return np.roll(poly, -int(np.argmin(poly))) if len(poly) else poly
 
@@ -286,9 +285,9 @@ def _oriented_faces(scaled: np.ndarray, hull: ConvexHull, interior) -> np.ndarra
         n = cross3(b - a, c - a)
         eq = hull.equations[:, :3]
         dot = np.einsum("ij,ij->i", n, eq)
-        scale = np.sqrt(np.einsum("ij,ij->i", n, n) * np.einsum("ij,ij->i", eq, eq))
+        # Sure when |dot| > 1e-8 |n| |eq| (squared: no square roots).
+        unsure = ~(dot * dot > 1e-16 * np.einsum("ij,ij->i", n, n) * np.einsum("ij,ij->i", eq, eq))
     flip = dot < 0
-    unsure = ~(np.abs(dot) > 1e-8 * scale)
     if unsure.any():
         if callable(interior):
             interior = interior()
@@ -347,14 +346,15 @@ def qhull_reference(points: np.ndarray) -> QhullReference:
     n, dim = pts.shape
     if n == 0:
         return _invalid("points is empty", pts)
-    scaled, exponent = exact_scale(pts)
-    dr = distround(pts)
+    extents = axis_extents(pts)
+    top = max(extents)
+    scaled, exponent = exact_scale(pts, top=top)
+    dr = distround(pts, extents=extents)
     # Qhull overflows near the ends of the double range (and was seen to die with
     # SIGSEGV on a cube's faces at 1e300): there it runs on a rescaled copy, which has
     # the same hull up to the power-of-two factor (exactly, when the rescaling is exact;
     # otherwise up to the rounding of coordinates below 2**-1022, which the exact
     # certificate below judges like any other hull), and says so.
-    top = float(np.abs(pts).max())
     qhull_input, note = pts, ""
     if top > 0 and not (_QHULL_SAFE_LOW <= top <= _QHULL_SAFE_HIGH):
         if exponent != 0:
