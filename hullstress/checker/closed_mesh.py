@@ -97,11 +97,11 @@ def certify_closed_mesh(points: np.ndarray, faces: FaceSet, *, seed: int = 0) ->
     pos = np.minimum(np.searchsorted(ordered, reverse), len(key) - 1)
     if np.any(ordered[pos] != reverse):
         return None
-    half = np.flatnonzero(src < dst)  # one half-edge per edge
+    half = (src < dst).nonzero()[0]  # one half-edge per edge
     twin = order[pos[half]]
     is_vertex = np.zeros(n, dtype=bool)
     is_vertex[src] = True
-    vertices = np.flatnonzero(is_vertex)
+    vertices = is_vertex.nonzero()[0]
     e = len(half)
     if len(vertices) - e + m != 2:
         return None
@@ -109,7 +109,7 @@ def certify_closed_mesh(points: np.ndarray, faces: FaceSet, *, seed: int = 0) ->
     corners = points[vertices]
     mean = vertex_mean(corners)
     q = ray_point(mean, float(max(corners.max(), -corners.min())), seed)
-    candidates = np.flatnonzero(~is_vertex)
+    candidates = (~is_vertex).nonzero()[0]
     batch_containment = len(candidates) * m <= _BATCH_CONTAINMENT
     k = len(candidates) if batch_containment else 0
     # Rows (as point indices; the mean and the ray point are filled in after the
@@ -123,7 +123,7 @@ def certify_closed_mesh(points: np.ndarray, faces: FaceSet, *, seed: int = 0) ->
     idx[1, e + m : 2 * e + m] = src[half]
     idx[2, e + m : 2 * e + m] = dst[half]
     if k:
-        idx[:3, 2 * e + m : signed] = np.tile(tri.T, k)
+        idx[:3, 2 * e + m : signed].reshape(3, k, m)[:] = tri.T[:, None, :]  # every face, for each candidate
         idx[3, 2 * e + m : signed] = np.repeat(candidates, m)
     lowest = rotated_to_lowest(faces).indices.reshape(-1, 3)
     idx[0, signed:], idx[1, signed:], idx[2, signed:], idx[3, signed:] = vertices[0], lowest[:, 1], lowest[:, 0], lowest[:, 2]
@@ -131,11 +131,12 @@ def certify_closed_mesh(points: np.ndarray, faces: FaceSet, *, seed: int = 0) ->
     coords[:, 3, e : e + m] = mean[:, None]
     coords[:, 0, e + m : 2 * e + m] = mean[:, None]
     coords[:, 3, e + m : 2 * e + m] = q[:, None]
-    det, bound = filter3_columns(coords[:, :3] - coords[:, 3:])
-    measure = Measure(3, [coords[:, j, signed:].T for j in range(4)], (det[signed:], bound[signed:]))
-    if measure.sign <= 0:
-        return None
-    sign = exact_signs3(det[:signed], bound[:signed], [coords[:, j, :signed].T for j in range(4)])
+    with np.errstate(all="ignore"):  # overflow means an undecided row, settled exactly
+        det, bound = filter3_columns(coords[:, :3] - coords[:, 3:])
+        measure = Measure(3, [coords[:, j, signed:].T for j in range(4)], (det[signed:], bound[signed:]))
+        if measure.sign <= 0:
+            return None
+        sign = exact_signs3(det[:signed], bound[:signed], [coords[:, j, :signed].T for j in range(4)])
     reflex, below = sign[:e], sign[e : e + m]
     if below.min() <= 0 or reflex.min() < 0 or reflex.max() <= 0 or (k and sign[2 * e + m :].min() < 0):
         return None
@@ -150,7 +151,7 @@ def certify_closed_mesh(points: np.ndarray, faces: FaceSet, *, seed: int = 0) ->
         he = half_edges(faces, n) if n * m > _SMALL else None
         if not check_containment3d(points, faces, tri, certified=True, center=mean, he=he).ok:
             return None
-    sharp_rows = np.flatnonzero(reflex > 0)
+    sharp_rows = (reflex > 0).nonzero()[0]
     sharp = idx[1:3, e + m + sharp_rows].T  # the edge's end points, from the wrap-number rows
     first_sharp = int(sharp_rows[0])  # a face and a vertex strictly below it: a witness simplex
     extreme = corners3(points, vertices, sharp)
@@ -203,7 +204,7 @@ def certify_convex_polygon(points: np.ndarray, poly: np.ndarray, *, seed: int = 
         return None
     is_vertex = np.zeros(n, dtype=bool)
     is_vertex[poly] = True
-    vertices = np.flatnonzero(is_vertex)
+    vertices = is_vertex.nonzero()[0]
     if len(vertices) != k:
         return None
     a = points[poly]
@@ -212,7 +213,7 @@ def certify_convex_polygon(points: np.ndarray, poly: np.ndarray, *, seed: int = 
         return None
     mean = vertex_mean(a)
     q = ray_point(mean, float(max(a.max(), -a.min())), seed)
-    candidates = np.flatnonzero(~is_vertex)
+    candidates = (~is_vertex).nonzero()[0]
     c = len(candidates) if len(candidates) * k <= _BATCH_CONTAINMENT else 0
     nxt, prev = np.roll(poly, -1), np.roll(poly, 1)
     # Rows (the mean and the ray point filled in after the gather): turns (k), mean
@@ -223,19 +224,20 @@ def certify_convex_polygon(points: np.ndarray, poly: np.ndarray, *, seed: int = 
     idx[0, k : 2 * k], idx[1, k : 2 * k] = poly, nxt
     idx[1, 2 * k : 3 * k] = poly
     if c:
-        idx[0, 3 * k : signed] = np.tile(poly, c)
-        idx[1, 3 * k : signed] = np.tile(nxt, c)
+        idx[0, 3 * k : signed].reshape(c, k)[:] = poly
+        idx[1, 3 * k : signed].reshape(c, k)[:] = nxt
         idx[2, 3 * k : signed] = np.repeat(candidates, k)
     idx[0, signed:], idx[1, signed:], idx[2, signed:] = poly.min(), poly, nxt
     coords = points.T[:, idx]  # (2, 3, rows)
     coords[:, 2, k : 2 * k] = mean[:, None]
     coords[:, 0, 2 * k : 3 * k] = mean[:, None]
     coords[:, 2, 2 * k : 3 * k] = q[:, None]
-    det, bound = filter2_columns(coords[:, :2] - coords[:, 2:])
-    measure = Measure(2, [coords[:, j, signed:].T for j in range(3)], (det[signed:], bound[signed:]))
-    if measure.sign <= 0:
-        return None
-    sign = exact_signs2(det[:signed], bound[:signed], [coords[:, j, :signed].T for j in range(3)])
+    with np.errstate(all="ignore"):  # overflow means an undecided row, settled exactly
+        det, bound = filter2_columns(coords[:, :2] - coords[:, 2:])
+        measure = Measure(2, [coords[:, j, signed:].T for j in range(3)], (det[signed:], bound[signed:]))
+        if measure.sign <= 0:
+            return None
+        sign = exact_signs2(det[:signed], bound[:signed], [coords[:, j, :signed].T for j in range(3)])
     turn, left = sign[:k], sign[k : 2 * k]
     if turn.min() < 0 or turn.max() <= 0 or left.min() <= 0 or (c and sign[3 * k :].min() < 0):
         return None

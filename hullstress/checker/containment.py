@@ -121,7 +121,7 @@ def _distinct_planes(planes: list[np.ndarray]) -> np.ndarray:
     m = len(a)
     with np.errstate(all="ignore"):
         n = np.cross(b - a, c - a)
-        size = np.abs(n).max(axis=1)
+        size = _row_max(np.abs(n))
         unit = n / size[:, None]
         off = np.einsum("ij,ij->i", unit, a)
         key = np.round(np.c_[unit, off / (np.abs(a).max() + 1.0)], 9)

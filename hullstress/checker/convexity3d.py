@@ -31,7 +31,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..contract import FaceSet
-from ._geometry import point_line_distance, point_plane_distance, surface_interior, triangle_array, vertex_mean
+from ._geometry import point_plane_distance, surface_interior, triangle_array, vertex_mean
 from .predicates import collinear3d, orient2d, orient3d, orient3d_mean
 from .topology import HalfEdges
 from .wrap import wrap_number_3d

@@ -12,7 +12,7 @@ from fractions import Fraction
 
 import numpy as np
 
-__all__ = ["exact_extreme_2d", "distinct_rows", "first_of_each", "rows_in", "Coordinates"]
+__all__ = ["exact_extreme_2d", "first_of_each", "Coordinates"]
 
 _ERRBOUND = (3.0 + 16.0 * 2.0**-53) * 2.0**-53
 
@@ -97,35 +97,12 @@ def first_of_each(points: np.ndarray, idx: np.ndarray) -> np.ndarray:
     return np.sort(idx[first])
 
 
-def distinct_rows(points: np.ndarray, idx: np.ndarray) -> np.ndarray:
-    """The rows ``points[idx]`` with duplicates removed, as a (k, d) array."""
-    return np.asarray(points)[first_of_each(points, idx)] + 0.0
-
-
-def rows_in(rows: np.ndarray, table: np.ndarray) -> np.ndarray:
-    """For each row of ``rows``, whether it equals some row of ``table`` (exact float equality).
-
-    Parameters
-    ----------
-    rows : ndarray of shape (k, d)
-    table : ndarray of shape (t, d)
-
-    Returns
-    -------
-    ndarray of shape (k,), bool
-    """
-    if not len(rows) or not len(table):
-        return np.zeros(len(rows), dtype=bool)
-    return np.isin(_keys(rows), _keys(table))
-
-
 class Coordinates:
     """Which points of a subset share coordinates: one integer id per distinct coordinate.
 
     Built once per verdict over the indices it will compare (hull vertices,
     extreme points, Qhull's vertices), so that every set operation after it
-    is on small integers: the same answers as :func:`distinct_rows` and
-    :func:`rows_in`, without sorting byte strings each time.
+    is on small integers instead of rows of floats compared byte by byte.
 
     Examples
     --------

@@ -34,7 +34,7 @@ from ..contract import FaceSet
 from ._geometry import cross3, triangle_array
 from .predicates import exact_det_sum, float_det_sum, sum_with_bound
 
-__all__ = ["Measure", "surface_measure", "surface_area", "compare", "rotated_to_lowest", "triangle_keys", "to_float", "measure_rows"]
+__all__ = ["Measure", "surface_measure", "surface_area", "compare", "rotated_to_lowest", "triangle_keys", "canonical_triangles", "to_float", "measure_rows"]
 
 #: The recorded value is the float estimate when its error bound is this small relative to it.
 _ACCURATE = 2.0**-44
@@ -46,6 +46,15 @@ def triangle_keys(tri: np.ndarray, n: int) -> np.ndarray:
     and ``n**3 < 2**63``."""
     a, b, c = tri.T
     return np.minimum(np.minimum((a * n + b) * n + c, (b * n + c) * n + a), (c * n + a) * n + b)
+
+
+def canonical_triangles(tri: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Triangles rotated to their smallest rotation, and their keys (:func:`triangle_keys`), in one pass."""
+    key = triangle_keys(tri, n)
+    out = np.empty_like(tri)
+    out[:, 0], rest = np.divmod(key, n * n)
+    out[:, 1], out[:, 2] = np.divmod(rest, n)
+    return out, key
 
 
 def rotated_to_lowest(faces: FaceSet) -> FaceSet:
@@ -72,10 +81,7 @@ def rotated_to_lowest(faces: FaceSet) -> FaceSet:
             return faces
         n = int(idx.max()) + 1
         if n < 2**21:
-            key = triangle_keys(tri, n)
-            out = np.empty_like(tri)
-            out[:, 0], rest = np.divmod(key, n * n)
-            out[:, 1], out[:, 2] = np.divmod(rest, n)
+            out, _ = canonical_triangles(tri, n)
         else:
             from_b = (b < a) & (b <= c)
             from_c = (c < a) & (c < b)

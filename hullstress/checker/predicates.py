@@ -328,12 +328,12 @@ def filter2_columns(diff: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
     ``diff[c, i]`` is coordinate ``c`` of ``p_i - p_last`` over all rows
     (shape (2, 2, k), each ``diff[c, i]`` contiguous): the same float
-    operations as :func:`filter2` on contiguous columns.
+    operations as :func:`filter2` on contiguous columns.  Call under
+    ``np.errstate(all="ignore")``.
     """
-    with np.errstate(all="ignore"):
-        left = diff[0, 0] * diff[1, 1]
-        right = diff[1, 0] * diff[0, 1]
-        return left - right, CCW_ERRBOUND_A * (np.abs(left) + np.abs(right)) * _SLACK + _TINY
+    left = diff[0, 0] * diff[1, 1]
+    right = diff[1, 0] * diff[0, 1]
+    return left - right, CCW_ERRBOUND_A * (np.abs(left) + np.abs(right)) * _SLACK + _TINY
 
 
 def filter3_columns(diff: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -341,13 +341,13 @@ def filter3_columns(diff: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
     The same float values as :func:`filter3` (the row norms are summed and
     multiplied in the same order), from a handful of whole-array operations.
+    Call under ``np.errstate(all="ignore")``.
     """
-    with np.errstate(all="ignore"):
-        det = _det3_value(*(diff[c, i] for i in range(3) for c in range(3)))
-        absolute = np.abs(diff)
-        norms = absolute.sum(axis=0)  # (|x| + |y|) + |z| of each row, slab by slab
-        noise = _TINY * (1.0 + absolute[2, 0] + absolute[2, 1] + absolute[2, 2])
-        return det, O3D_ERRBOUND_A * ((norms[0] * norms[1]) * norms[2]) * _SLACK + noise
+    det = _det3_value(*(diff[c, i] for i in range(3) for c in range(3)))
+    absolute = np.abs(diff)
+    norms = absolute.sum(axis=0)  # (|x| + |y|) + |z| of each row, slab by slab
+    noise = _TINY * (1.0 + absolute[2, 0] + absolute[2, 1] + absolute[2, 2])
+    return det, O3D_ERRBOUND_A * ((norms[0] * norms[1]) * norms[2]) * _SLACK + noise
 
 
 def _det3_value(adx, ady, adz, bdx, bdy, bdz, cdx, cdy, cdz):
@@ -412,34 +412,19 @@ def _settle(sign: np.ndarray, decided: np.ndarray, args: list[np.ndarray], dim: 
 
 
 def exact_signs3(det: np.ndarray, bound: np.ndarray, args: list[np.ndarray]) -> np.ndarray:
-    """Exact orient3d signs of rows whose float determinants and bounds are known (:func:`filtered3`)."""
-    with np.errstate(all="ignore"):
-        sign = np.sign(det).astype(np.int8)
-        return _settle(sign, np.abs(det) > bound, args, 3, _STAGES3)
+    """Exact orient3d signs of rows whose float determinants and bounds are known (:func:`filter3_columns`).
+
+    Call under ``np.errstate(all="ignore")`` (the batched checks hold one for all their steps).
+    """
+    return _settle(np.sign(det).astype(np.int8), np.abs(det) > bound, args, 3, _STAGES3)
 
 
 def exact_signs2(det: np.ndarray, bound: np.ndarray, args: list[np.ndarray]) -> np.ndarray:
-    """Exact orient2d signs of rows whose float determinants and bounds are known (:func:`filtered2`)."""
-    with np.errstate(all="ignore"):
-        sign = np.sign(det).astype(np.int8)
-        return _settle(sign, np.abs(det) > bound, args, 2, _STAGES2)
+    """Exact orient2d signs of rows whose float determinants and bounds are known (:func:`filter2_columns`).
 
-
-def filtered2(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The float orient2d of (1|k, 2) rows and a bound on its error (slack and underflow included)."""
-    with np.errstate(all="ignore"):
-        det, errbound = filter2(a, b, c)
-        return det, errbound * _SLACK + _TINY
-
-
-def filtered3(a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The float orient3d of (1|k, 3) rows and a bound on its error (slack and underflow included).
-
-    ``|det - exact| <= bound`` wherever both are finite; NaN or inf rows are undecided.
+    Call under ``np.errstate(all="ignore")``.
     """
-    with np.errstate(all="ignore"):
-        det, errbound, noise = filter3(a, b, c, d)
-        return det, errbound * _SLACK + noise
+    return _settle(np.sign(det).astype(np.int8), np.abs(det) > bound, args, 2, _STAGES2)
 
 
 # --------------------------------------------------------------------------- orient2d

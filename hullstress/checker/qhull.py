@@ -27,7 +27,7 @@ from ..contract import FaceSet
 from ._geometry import Interior, axis_extents, cross3, distround, exact_scale, triangle_array
 from .certify import Certificate, certify
 from .extreme import exact_extreme_2d, first_of_each
-from .measure import rotated_to_lowest, surface_area, triangle_keys
+from .measure import canonical_triangles, rotated_to_lowest, surface_area, triangle_keys
 from .predicates import orient3d_mean
 from .rank import witness_simplex
 from .severity import VOLUME_TOLERANCE_MULTIPLE
@@ -89,9 +89,6 @@ class QhullReference:
         computed here like any hull's (:mod:`.measure`): independent of face
         order, not Qhull's own float figure (which, after ``QbB`` or ``QJ``,
         describes scaled or joggled points).
-    area : None
-        Kept for compatibility; the surface area behind the volume tolerance
-        is computed on demand (:meth:`tolerance`).
     options : str or None
         The options that produced the reference, as Qhull ran them (``"Qt"``,
         ``"Qt Q12"``, ``"Qt QbB"``, ``"QJ"``, ...), with a note when Qhull ran
@@ -131,7 +128,6 @@ class QhullReference:
     vertices: np.ndarray | None
     faces: np.ndarray | FaceSet | None
     volume: float | None
-    area: float | None
     options: str | None
     attempts: tuple[str, ...]
     error: str | None
@@ -285,8 +281,8 @@ def _oriented_faces(scaled: np.ndarray, hull: ConvexHull, interior) -> np.ndarra
         n = cross3(b - a, c - a)
         eq = hull.equations[:, :3]
         dot = np.einsum("ij,ij->i", n, eq)
-        # Sure when |dot| > 1e-8 |n| |eq| (squared: no square roots).
-        unsure = ~(dot * dot > 1e-16 * np.einsum("ij,ij->i", n, n) * np.einsum("ij,ij->i", eq, eq))
+        # Sure when |dot| > 1e-8 |n| (squared: no square roots); Qhull's normals have unit length.
+        unsure = ~(dot * dot > 1e-16 * np.einsum("ij,ij->i", n, n))
     flip = dot < 0
     if unsure.any():
         if callable(interior):
@@ -303,7 +299,7 @@ def _invalid(reason: str, points: np.ndarray | None = None) -> QhullReference:
     n = dim = 0
     if isinstance(points, np.ndarray) and points.ndim == 2:
         n, dim = points.shape
-    return QhullReference(None, None, None, None, None, (), reason, None, "", 0.0, None, None, None, n, dim)
+    return QhullReference(None, None, None, None, (), reason, None, "", 0.0, None, None, None, n, dim)
 
 
 def _summary(cert: Certificate) -> str:
@@ -370,7 +366,7 @@ def qhull_reference(points: np.ndarray) -> QhullReference:
     if hull is None:
         simplex = witness_simplex(scaled)
         return QhullReference(
-            None, None, None, None, None, attempts, "Qhull failed with every option set: " + attempts[-1],
+            None, None, None, None, attempts, "Qhull failed with every option set: " + attempts[-1],
             None, "", dr, np.sort(exact_extreme_2d(scaled)) if dim == 2 else None, len(simplex) - 1, simplex, n, dim,
             points=pts, scaled=scaled, exponent=exponent,
         )
@@ -385,11 +381,17 @@ def qhull_reference(points: np.ndarray) -> QhullReference:
         return Interior.from_simplex(scaled[simplex]) if len(simplex) == dim + 1 else None
 
     faces: np.ndarray | FaceSet
+    face_key = None
     if dim == 2:
         faces = np.asarray(hull.vertices, dtype=np.int64)
     else:
-        # Stored with every triangle starting at its lowest index: the canonical rotation.
-        faces = rotated_to_lowest(FaceSet.from_triangles(_oriented_faces(scaled, hull, interior)))
+        # Stored with every triangle starting at its lowest index (the canonical rotation);
+        # the same keys give the face set's canonical form.
+        tri = _oriented_faces(scaled, hull, interior)
+        if n < 2**21:
+            tri, keys = canonical_triangles(tri, n)
+            face_key = np.sort(keys)
+        faces = rotated_to_lowest(FaceSet.from_triangles(tri))
     cert = certify(scaled, faces)
     ok = cert.certified
     # A certified surface names a simplex of its own vertices (input points): full rank.
@@ -410,7 +412,6 @@ def qhull_reference(points: np.ndarray) -> QhullReference:
         vertices=vertices,
         faces=faces,
         volume=_unscale(cert.volume, -exponent * dim),
-        area=None,
         options=options,
         attempts=attempts,
         error=None,
@@ -426,7 +427,7 @@ def qhull_reference(points: np.ndarray) -> QhullReference:
         scaled=scaled,
         exponent=exponent,
         certificate=cert,
-        face_key=face_set_key(faces, n),
+        face_key=face_key if face_key is not None else face_set_key(faces, n),
     )
 
 

@@ -46,6 +46,8 @@ def ray_point(origin: np.ndarray, extent: float, seed: int) -> np.ndarray:
 
     ``origin`` itself if that overflows: the symbolic perturbation then gives the ray its direction.
     """
+    if extent < 2.0**1000:  # |q| < 2 extent: no overflow
+        return origin + _direction(seed, len(origin)) * (extent * 0.0625)
     with np.errstate(all="ignore"):
         q = origin + _direction(seed, len(origin)) * (extent * 0.0625)
     return q if np.isfinite(q).all() else np.array(origin, dtype=np.float64)
