@@ -65,6 +65,56 @@ _EMPTY = np.zeros(0, dtype=np.int64)
 _EMPTY.setflags(write=False)
 
 
+#: The offending kinds of the general checks' certificates, all empty here.
+_OFFENDING_KINDS = {
+    2: ("containment", "degenerate_edges", "reflex_vertices", "flipped_edges", "manifold_vertices"),
+    3: ("containment", "degenerate_faces", "reflex_faces", "flipped_faces", "manifold_faces", "manifold_vertices"),
+}
+
+
+def _certified(
+    dim: int, n_faces: int, vertices: np.ndarray, extreme: np.ndarray, boundary: np.ndarray,
+    measure: Measure, witness: np.ndarray,
+) -> Certificate:
+    """The certificate the general checks build for a surface that passes them all."""
+    return Certificate(
+        dim=dim,
+        containment=True,
+        convexity=True,
+        manifoldness=True,
+        n_faces=n_faces,
+        hull_vertices=vertices,
+        extreme=extreme,
+        boundary_nonextreme=boundary,
+        outside=_EMPTY,
+        n_nonconvex_edges=0,
+        n_degenerate_faces=0,
+        offending={key: _EMPTY for key in _OFFENDING_KINDS[dim]},
+        magnitudes={},
+        measure=measure,
+        reasons={"containment": [], "convexity": [], "manifoldness": []},
+        wraps=1,
+        witness=witness,
+    )
+
+
+def _signs_and_measure(coords: np.ndarray, signed: int) -> tuple[np.ndarray, Measure] | None:
+    """One float filter over every row, then the volume (area) from the rows from ``signed`` on
+    and exact signs for the rows before; None when the volume is not positive.
+
+    ``coords[c, p]`` is coordinate c of the p-th point of every row (the last point
+    is the one subtracted), shape (dim, dim + 1, rows).
+    """
+    dim = coords.shape[0]
+    filter_columns, exact_signs = (filter2_columns, exact_signs2) if dim == 2 else (filter3_columns, exact_signs3)
+    with np.errstate(all="ignore"):  # overflow means an undecided row, settled exactly
+        det, bound = filter_columns(coords[:, :dim] - coords[:, dim:])
+        measure = Measure(dim, [coords[:, j, signed:].T for j in range(dim + 1)], (det[signed:], bound[signed:]))
+        if measure.sign <= 0:
+            return None
+        return exact_signs(det[:signed], bound[:signed], [coords[:, j, :signed].T for j in range(dim + 1)]), measure
+
+
 def certify_closed_mesh(points: np.ndarray, faces: FaceSet, *, seed: int = 0) -> Certificate | None:
     """The certificate of a closed convex triangle mesh, or None when this path cannot give it.
 
@@ -131,12 +181,10 @@ def certify_closed_mesh(points: np.ndarray, faces: FaceSet, *, seed: int = 0) ->
     coords[:, 3, e : e + m] = mean[:, None]
     coords[:, 0, e + m : 2 * e + m] = mean[:, None]
     coords[:, 3, e + m : 2 * e + m] = q[:, None]
-    with np.errstate(all="ignore"):  # overflow means an undecided row, settled exactly
-        det, bound = filter3_columns(coords[:, :3] - coords[:, 3:])
-        measure = Measure(3, [coords[:, j, signed:].T for j in range(4)], (det[signed:], bound[signed:]))
-        if measure.sign <= 0:
-            return None
-        sign = exact_signs3(det[:signed], bound[:signed], [coords[:, j, :signed].T for j in range(4)])
+    batch = _signs_and_measure(coords, signed)
+    if batch is None:
+        return None
+    sign, measure = batch
     reflex, below = sign[:e], sign[e : e + m]
     if below.min() <= 0 or reflex.min() < 0 or reflex.max() <= 0 or (k and sign[2 * e + m :].min() < 0):
         return None
@@ -156,26 +204,7 @@ def certify_closed_mesh(points: np.ndarray, faces: FaceSet, *, seed: int = 0) ->
     first_sharp = int(sharp_rows[0])  # a face and a vertex strictly below it: a witness simplex
     extreme = corners3(points, vertices, sharp)
     is_vertex[extreme] = False  # now: vertices that are not corners
-    return Certificate(
-        dim=3,
-        containment=True,
-        convexity=True,
-        manifoldness=True,
-        n_faces=m,
-        hull_vertices=vertices,
-        extreme=extreme,
-        boundary_nonextreme=vertices[is_vertex[vertices]],
-        outside=_EMPTY,
-        n_nonconvex_edges=0,
-        n_degenerate_faces=0,
-        offending={key: _EMPTY for key in ("containment", "degenerate_faces", "reflex_faces", "flipped_faces",
-                                          "manifold_faces", "manifold_vertices")},
-        magnitudes={},
-        measure=measure,
-        reasons={"containment": [], "convexity": [], "manifoldness": []},
-        wraps=1,
-        witness=idx[:, first_sharp].copy(),
-    )
+    return _certified(3, m, vertices, extreme, vertices[is_vertex[vertices]], measure, idx[:, first_sharp].copy())
 
 
 def certify_convex_polygon(points: np.ndarray, poly: np.ndarray, *, seed: int = 0) -> Certificate | None:
@@ -232,12 +261,10 @@ def certify_convex_polygon(points: np.ndarray, poly: np.ndarray, *, seed: int = 
     coords[:, 2, k : 2 * k] = mean[:, None]
     coords[:, 0, 2 * k : 3 * k] = mean[:, None]
     coords[:, 2, 2 * k : 3 * k] = q[:, None]
-    with np.errstate(all="ignore"):  # overflow means an undecided row, settled exactly
-        det, bound = filter2_columns(coords[:, :2] - coords[:, 2:])
-        measure = Measure(2, [coords[:, j, signed:].T for j in range(3)], (det[signed:], bound[signed:]))
-        if measure.sign <= 0:
-            return None
-        sign = exact_signs2(det[:signed], bound[:signed], [coords[:, j, :signed].T for j in range(3)])
+    batch = _signs_and_measure(coords, signed)
+    if batch is None:
+        return None
+    sign, measure = batch
     turn, left = sign[:k], sign[k : 2 * k]
     if turn.min() < 0 or turn.max() <= 0 or left.min() <= 0 or (c and sign[3 * k :].min() < 0):
         return None
@@ -250,23 +277,4 @@ def certify_convex_polygon(points: np.ndarray, poly: np.ndarray, *, seed: int = 
         if not cont.ok:
             return None
     strict = int(np.argmax(turn > 0))
-    return Certificate(
-        dim=2,
-        containment=True,
-        convexity=True,
-        manifoldness=True,
-        n_faces=k,
-        hull_vertices=vertices,
-        extreme=np.unique(poly[turn > 0]),
-        boundary_nonextreme=np.unique(poly[turn == 0]),
-        outside=_EMPTY,
-        n_nonconvex_edges=0,
-        n_degenerate_faces=0,
-        offending={key: _EMPTY for key in ("containment", "degenerate_edges", "reflex_vertices", "flipped_edges",
-                                          "manifold_vertices")},
-        magnitudes={},
-        measure=measure,
-        reasons={"containment": [], "convexity": [], "manifoldness": []},
-        wraps=1,
-        witness=idx[:, strict].copy(),
-    )
+    return _certified(2, k, vertices, np.unique(poly[turn > 0]), np.unique(poly[turn == 0]), measure, idx[:, strict].copy())
