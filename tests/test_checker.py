@@ -446,3 +446,19 @@ def test_cone_and_brute_containment_agree():
     slow = check_containment3d(pts, hull, conv.plane)
     assert fast.method.startswith("cones") and slow.method == "brute"
     assert np.array_equal(fast.outside, slow.outside) and fast.outside.size > 100
+
+
+@given(seed=seeds, n=st.integers(1, 60), m=st.integers(0, 80))
+def test_union_find_components_match_scipy(seed, n, m):
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    from hullstress.checker.topology import components
+
+    rng = np.random.default_rng(seed)
+    u, v = rng.integers(0, n, m), rng.integers(0, n, m)
+    label = components(n, u, v)
+    _, expected = connected_components(coo_matrix((np.ones(m), (u, v)), shape=(n, n)), directed=False)
+    # Same partition, each labelled by its smallest node.
+    assert np.array_equal(label[label], label) and np.all(label <= np.arange(n))
+    assert np.array_equal(np.unique(expected[np.arange(n)], return_inverse=True)[1], np.unique(label, return_inverse=True)[1])
