@@ -15,7 +15,6 @@ from scipy.spatial import ConvexHull
 from hullstress.checker import RETRY_OPTIONS, check, qhull_reference
 from hullstress.checker import wrap
 from hullstress.checker.qhull import options_label
-from hullstress.contract import FaceSet
 from hullstress.verdict import AGREE, DISAGREE, QHULL_WRONG
 
 
