@@ -1,20 +1,32 @@
-"""Benchmark: the full exact check of Qhull's hull of n points uniform in a ball.
+"""Benchmark: the exact checker against scipy's ConvexHull on the same points, small and large.
 
-Measures, in one process and on the same points:
+Part 1, the sizes the sweep runs (``--sizes``, default 24, 100, 1000; 2D and
+3D): many clouds uniform in a ball, each checked once per round; per call:
 
-* ``ConvexHull``: scipy's Qhull (default options), the yardstick;
-* ``check``: :func:`hullstress.checker.check` of Qhull's hull with the Qhull
-  reference already computed (what the sweep pays per algorithm output);
-* ``check --no-qhull``: the exact checks alone;
-* ``qhull_reference``: Qhull's hull plus its own exact certification (paid
-  once per case);
-* ``qconvex`` / ``qconvex Tv``: Qhull's program without and with its own
-  (tolerance-based) verification, when the program is installed (includes
-  parsing the text input, the same for both);
-* optionally (``--brute``) a plain numpy test of every point against every facet.
+* ``ConvexHull``: scipy's Qhull build (default options), the yardstick;
+* ``ConvexHull + orienting``: the build plus turning its triangles outward
+  (the README's ``my_quickhull`` plug-in, the algorithm issue 19 timed);
+* ``check``: :func:`hullstress.checker.check` of Qhull's hull with default
+  settings, i.e. building and certifying the Qhull reference itself;
+* ``check, reference given``: what the sweep pays per algorithm output (the
+  case's reference is built once per case);
+* ``check --no-qhull``: the exact checks alone.
 
-Run: ``python benchmarks/bench_checker.py [--n 100000] [--dim 3] [--repeat 5] [--brute]``.
-Prints a Markdown table; each figure is the best of ``--repeat`` runs.
+Part 2, ``--n`` points (default 100,000) in a 3D ball, best of ``--repeat``:
+
+* ``check`` (reference built inside), ``check`` with the reference given,
+  ``check --no-qhull``, ``qhull_reference`` (Qhull's hull plus its exact
+  certification), and ``qconvex`` / ``qconvex Tv`` when Qhull's program is
+  installed (includes parsing the text input, the same for both);
+* optionally (``--brute``) plain float numpy, every point against every facet.
+
+Every figure is the best of ``--repeat`` rounds, and every ratio is taken
+against ConvexHull measured in the same run, interleaved, so that the ratios
+survive a shared, loaded machine.  ``--clock cpu`` measures process CPU time
+instead of wall time (steadier when other processes compete for the cores).
+
+Run: ``python benchmarks/bench_checker.py [--sizes 24,100,1000] [--n 100000] [--repeat 5]``.
+Prints Markdown tables.
 """
 
 from __future__ import annotations
@@ -41,13 +53,16 @@ def ball(rng: np.random.Generator, n: int, dim: int) -> np.ndarray:
     return v * rng.random(n)[:, None] ** (1.0 / dim)
 
 
-def best_of(fn, repeat: int) -> float:
-    times = []
+def best_per_call(fns: dict, args: list, repeat: int, clock) -> dict:
+    """Best over ``repeat`` rounds of the mean time per call of each function over ``args``, interleaved."""
+    best = {name: float("inf") for name in fns}
     for _ in range(repeat):
-        t = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t)
-    return min(times)
+        for name, fn in fns.items():
+            start = clock()
+            for a in args:
+                fn(*a)
+            best[name] = min(best[name], (clock() - start) / len(args))
+    return best
 
 
 def brute_numpy(points: np.ndarray, equations: np.ndarray) -> float:
@@ -72,51 +87,132 @@ def qconvex_times(points: np.ndarray, repeat: int) -> tuple[float, float] | None
         def run(opts):
             subprocess.run([exe, *opts], input=data, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, check=True)
 
-        return best_of(lambda: run([]), repeat), best_of(lambda: run(["Tv"]), repeat)
+        def best(opts):
+            times = []
+            for _ in range(repeat):
+                t = time.perf_counter()
+                run(opts)
+                times.append(time.perf_counter() - t)
+            return min(times)
+
+        return best([]), best(["Tv"])
+
+
+def oriented_hull(points: np.ndarray) -> np.ndarray:
+    """scipy's hull as an algorithm returns it: 2D vertex cycle, or 3D triangles turned outward."""
+    hull = ConvexHull(points)
+    if points.shape[1] == 2:
+        return hull.vertices
+    tri = hull.simplices.copy()
+    a, b, c = (points[tri[:, k]] for k in range(3))
+    inward = np.einsum("ij,ij->i", np.cross(b - a, c - a), hull.equations[:, :3]) < 0
+    tri[inward] = tri[inward][:, ::-1]
+    return tri
+
+
+def small_sizes(sizes: list[int], repeat: int, seed: int, clock) -> list[str]:
+    lines = [
+        "| dim | n | clouds | ConvexHull ms | check ms | check / ConvexHull | check / (ConvexHull + orienting) "
+        "| reference given | --no-qhull |",
+        "| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |",
+    ]
+    for dim in (3, 2):
+        for n in sizes:
+            clouds = max(3, min(50, 2000 // n))  # short rounds: the best of many resists a loaded machine
+            rng = np.random.default_rng(seed)
+            cases = []
+            for _ in range(clouds):
+                pts = ball(rng, n, dim)
+                ref = qhull_reference(pts)
+                faces = oriented_hull(pts)
+                verdict = check(pts, faces)
+                if not verdict.ok:
+                    raise SystemExit(f"unexpected verdict on Qhull's hull (n={n}, dim={dim}): {verdict.detail}")
+                cases.append((pts, faces, ref))
+            t = best_per_call(
+                {
+                    "hull": lambda p, f, r: ConvexHull(p),
+                    "oriented": lambda p, f, r: oriented_hull(p),
+                    "check": lambda p, f, r: check(p, f),
+                    "given": lambda p, f, r: check(p, f, reference=r),
+                    "exact": lambda p, f, r: check(p, f, qhull=False),
+                },
+                cases,
+                repeat,
+                clock,
+            )
+            h = t["hull"]
+            lines.append(
+                f"| {dim} | {n} | {clouds} | {h * 1e3:.3f} | {t['check'] * 1e3:.3f} | {t['check'] / h:.1f}x "
+                f"| {t['check'] / t['oriented']:.1f}x | {t['given'] / h:.2f}x | {t['exact'] / h:.1f}x |"
+            )
+    return lines
+
+
+def large(n: int, repeat: int, seed: int, brute: bool, clock) -> list[str]:
+    points = ball(np.random.default_rng(seed), n, 3)
+    hull = ConvexHull(points)
+    ref = qhull_reference(points)
+    faces = oriented_hull(points)
+    verdict = check(points, faces, reference=ref)
+    if not verdict.ok:
+        raise SystemExit(f"unexpected verdict on Qhull's hull: {verdict.detail}")
+    t = best_per_call(
+        {
+            "hull": lambda: ConvexHull(points),
+            "check": lambda: check(points, faces),
+            "given": lambda: check(points, faces, reference=ref),
+            "exact": lambda: check(points, faces, qhull=False),
+            "reference": lambda: qhull_reference(points),
+        },
+        [()],
+        repeat,
+        clock,
+    )
+    rows = [
+        ("scipy ConvexHull", t["hull"]),
+        ("check (default: builds and certifies the Qhull reference)", t["check"]),
+        ("check, reference given (what the sweep pays per output)", t["given"]),
+        ("check --no-qhull (exact checks only)", t["exact"]),
+        ("qhull_reference (Qhull's hull + its exact certification)", t["reference"]),
+    ]
+    q = qconvex_times(points, repeat)
+    if q is not None:
+        rows += [("qconvex", q[0]), ("qconvex Tv (Qhull's own, tolerance-based verification)", q[1])]
+    if brute:
+        rows.append(("plain numpy, all points x all facets (float, not exact)", brute_numpy(points, hull.equations)))
+    lines = [
+        f"n = {n}, dim = 3, uniform in a ball, seed {seed}: {len(hull.vertices)} hull vertices, "
+        f"{len(hull.simplices)} facets; best of {repeat}",
+        "",
+        "| what | seconds | / ConvexHull |",
+        "| --- | ---: | ---: |",
+    ]
+    lines += [f"| {name} | {s:.4f} | {s / t['hull']:.2f}x |" for name, s in rows]
+    return lines
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--n", type=int, default=100_000)
-    parser.add_argument("--dim", type=int, choices=(2, 3), default=3)
+    parser.add_argument("--sizes", default="24,100,1000", help="comma-separated small sizes (part 1)")
+    parser.add_argument("--n", type=int, default=100_000, help="the large size (part 2); 0 skips it")
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--clock", choices=("wall", "cpu"), default="wall")
     parser.add_argument("--brute", action="store_true", help="also time plain numpy all points x all facets")
     args = parser.parse_args(argv)
+    clock = time.perf_counter if args.clock == "wall" else time.process_time
 
-    points = ball(np.random.default_rng(args.seed), args.n, args.dim)
-    hull = ConvexHull(points)
-    ref = qhull_reference(points)
-    verdict = check(points, ref.faces, reference=ref)
-    if not verdict.ok:
-        print(f"unexpected verdict on Qhull's hull: {verdict.detail}", file=sys.stderr)
-        return 1
-
-    t_hull = best_of(lambda: ConvexHull(points), args.repeat)
-    t_check = best_of(lambda: check(points, ref.faces, reference=ref), args.repeat)
-    t_exact = best_of(lambda: check(points, ref.faces, qhull=False), args.repeat)
-    t_ref = best_of(lambda: qhull_reference(points), args.repeat)
-    rows = [
-        ("scipy ConvexHull", t_hull),
-        ("check (reference given)", t_check),
-        ("check --no-qhull", t_exact),
-        ("qhull_reference (hull + its certification)", t_ref),
-    ]
-    q = qconvex_times(points, args.repeat)
-    if q is not None:
-        rows += [("qconvex", q[0]), ("qconvex Tv", q[1])]
-    if args.brute:
-        rows.append(("plain numpy, all points x all facets (float, not exact)", brute_numpy(points, hull.equations)))
-
-    print(f"n = {args.n}, dim = {args.dim}, uniform in a ball, seed {args.seed}: "
-          f"{len(hull.vertices)} hull vertices, {len(hull.simplices)} facets; best of {args.repeat}")
-    print()
-    print("| what | seconds | / ConvexHull |")
-    print("| --- | ---: | ---: |")
-    for name, t in rows:
-        print(f"| {name} | {t:.4f} | {t / t_hull:.2f}x |")
-    if q is not None:
-        print(f"\nqconvex Tv / qconvex: {q[1] / q[0]:.1f}x")
+    sizes = [int(s) for s in args.sizes.split(",") if s.strip()]
+    if sizes:
+        print(f"Per call, best of {args.repeat} rounds ({args.clock} clock), uniform in a ball:")
+        print()
+        print("\n".join(small_sizes(sizes, args.repeat, args.seed, clock)))
+    if args.n:
+        print()
+        print("\n".join(large(args.n, args.repeat, args.seed, args.brute, clock)))
+        if shutil.which("qconvex"):
+            print("\n(qconvex includes parsing its text input.)")
     return 0
 
 

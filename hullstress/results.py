@@ -150,7 +150,7 @@ def to_frame(rows: Iterable[ResultRow]) -> pd.DataFrame:
     """
     records = [r.values for r in rows]
     df = pd.DataFrame.from_records(records, columns=list(ROW_COLUMNS))
-    for col in ("convexity", "containment", "manifoldness", "qhull_agreement", "qhull_ok", "degenerate"):
+    for col in ("convexity", "containment", "manifoldness", "qhull_ok", "degenerate"):
         df[col] = df[col].astype("boolean")
     for col in (
         "dim", "n_points", "size", "seed", "n_faces", "n_hull_vertices", "n_extreme",
@@ -160,7 +160,7 @@ def to_frame(rows: Iterable[ResultRow]) -> pd.DataFrame:
         df[col] = pd.to_numeric(df[col], errors="coerce").astype("Int64")
     for col in ("seconds", "check_seconds", "eps_value", "max_violation", "distround", "volume", "qhull_volume"):
         df[col] = pd.to_numeric(df[col], errors="coerce").astype("float64")
-    for col in ("failed_checks", "severity", "qhull_options", "offending", "reason", "invalid_input", "transform",
-                "stage", "sphere_method"):
+    for col in ("qhull_agreement", "failed_checks", "severity", "qhull_options", "offending", "reason",
+                "invalid_input", "transform", "stage", "sphere_method"):
         df[col] = df[col].astype("string")
     return df

@@ -13,10 +13,33 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
-__all__ = ["Verdict", "VERDICT_COLUMNS", "CHECKS", "SEVERITIES", "empty_verdict_row"]
+__all__ = [
+    "Verdict",
+    "VERDICT_COLUMNS",
+    "CHECKS",
+    "SEVERITIES",
+    "AGREE",
+    "DISAGREE",
+    "QHULL_WRONG",
+    "QHULL_AGREEMENTS",
+    "empty_verdict_row",
+]
 
 #: The four checks of DESIGN.md, in report order.
 CHECKS = ("convexity", "containment", "manifoldness", "qhull_agreement")
+
+#: ``qhull_agreement``: the hull's extreme vertex set and volume agree with Qhull's, whose
+#: own hull passed the exact checks.
+AGREE = "agree"
+#: ``qhull_agreement``: they differ from a Qhull hull that passed the exact checks: the
+#: algorithm is wrong (a failed check).
+DISAGREE = "disagree"
+#: ``qhull_agreement``: Qhull's own hull fails the exact checks, so it is no reference here;
+#: never a failed check of the algorithm, which is judged by the exact checks alone.
+QHULL_WRONG = "qhull-wrong"
+#: Every value of ``qhull_agreement`` besides missing (no reference: Qhull not run, or
+#: failed under every option set).
+QHULL_AGREEMENTS = (AGREE, DISAGREE, QHULL_WRONG)
 #: Severity of the worst violation: none, within a small multiple of Qhull's DISTround, or beyond.
 SEVERITIES = ("none", "roundoff", "gross")
 
@@ -55,9 +78,15 @@ class Verdict:
     ----------
     convexity, containment, manifoldness : bool
         DESIGN.md's checks, decided with exact predicates.
-    qhull_agreement : bool or None
-        Extreme vertex set and volume (area) agree with Qhull's; ``None`` when
-        Qhull could not produce a reference even with retried options.
+    qhull_agreement : {"agree", "disagree", "qhull-wrong"} or None
+        Whether the extreme vertex set and the volume (area) agree with
+        Qhull's: ``"agree"`` or ``"disagree"`` (a failed check) against a
+        Qhull hull that passes the exact checks; ``"qhull-wrong"`` when
+        Qhull's own hull fails them (Qhull is then no reference and the
+        algorithm is not charged); ``None`` without a reference (Qhull not
+        run, or failed even with retried options).  The volumes are compared
+        exactly, within a shell of ``VOLUME_TOLERANCE_MULTIPLE`` DISTround
+        times Qhull's surface area.
     severity : {"none", "roundoff", "gross"}
         Of the worst violation, in units of Qhull's DISTround for the input.
     max_violation : float
@@ -79,8 +108,10 @@ class Verdict:
     n_degenerate_faces : int
         Faces that are degenerate, non-planar or non-convex.
     volume : float
-        Volume (area in 2D) of the checked hull.
+        Volume (area in 2D) of the checked hull: a function of its face set
+        only (never of face order), exact where the float sum is not.
     qhull_volume : float or None
+        The same for Qhull's faces.
     qhull_options : str or None
         The Qhull options that produced the reference (e.g. ``"Qt"``, ``"QJ"``).
     qhull_ok : bool or None
@@ -97,7 +128,7 @@ class Verdict:
     convexity: bool
     containment: bool
     manifoldness: bool
-    qhull_agreement: bool | None
+    qhull_agreement: str | None
     severity: str = "none"
     max_violation: float = 0.0
     distround: float = 0.0
@@ -120,11 +151,11 @@ class Verdict:
     @property
     def failed_checks(self) -> tuple[str, ...]:
         """Names of the checks that failed, in :data:`CHECKS` order."""
-        return tuple(c for c in CHECKS if getattr(self, c) is False)
+        return tuple(c for c in CHECKS if getattr(self, c) in (False, DISAGREE))
 
     @property
     def ok(self) -> bool:
-        """True when no check failed (an unknown Qhull agreement does not count as failed)."""
+        """True when no check failed (a missing or ``"qhull-wrong"`` agreement does not count as failed)."""
         return not self.failed_checks
 
     def as_row(self) -> dict[str, Any]:

@@ -87,7 +87,7 @@ def test_qhull_hull_of_general_position_3d_is_valid(seed, n):
     assert ref.qhull_ok, ref.qhull_detail
     v = check(pts, ref.faces, reference=ref)
     assert_valid(v)
-    assert v.qhull_agreement is True and v.n_extreme == len(ref.vertices)
+    assert v.qhull_agreement == "agree" and v.n_extreme == len(ref.vertices)
     assert v.volume == pytest.approx(ref.volume, rel=1e-12)
 
 
@@ -97,7 +97,7 @@ def test_qhull_hull_of_general_position_2d_is_valid(seed, n):
     ref = qhull_reference(pts)
     v = check(pts, ref.faces, reference=ref)
     assert_valid(v)
-    assert v.qhull_agreement is True
+    assert v.qhull_agreement == "agree"
     assert v.volume == pytest.approx(ref.volume, rel=1e-12)
 
 
@@ -108,7 +108,7 @@ def test_cube_lattices_with_any_triangulation_are_valid(scale, seed, k):
     pts = pts * scale
     v = check(pts, tri)
     assert v.containment and v.convexity and v.manifoldness, v.detail
-    assert v.qhull_agreement in (True, None)  # None: Qhull itself fails at 1e300 scale
+    assert v.qhull_agreement in ("agree", "qhull-wrong")  # Qhull itself may fail at 1e300 scale
     assert v.n_extreme == 8
     assert v.n_boundary_nonextreme == 6 * (k - 2) ** 2 + 12 * (k - 2)
     assert v.n_hull_vertices == 8 + v.n_boundary_nonextreme
@@ -129,7 +129,7 @@ def test_general_position_at_extreme_scales(scale):
             faces = ref.faces
     v = check(pts, faces)
     assert v.containment and v.convexity and v.manifoldness, v.detail
-    assert v.qhull_agreement in (True, None)
+    assert v.qhull_agreement in ("agree", "qhull-wrong")
 
 
 def test_square_lattice_polygon_with_boundary_points():
@@ -208,7 +208,7 @@ def test_vertex_replaced_by_interior_point(sphere_case):
     v = check(pts, bad, reference=ref, max_offending=len(pts))
     assert not v.containment and not v.convexity
     assert vertex in v.offending["containment"] and vertex in v.offending["missing_extreme"]
-    assert v.qhull_agreement is False and v.severity == "gross"
+    assert v.qhull_agreement == "disagree" and v.severity == "gross"
 
 
 def test_extreme_point_left_out(sphere_case):
@@ -219,7 +219,7 @@ def test_extreme_point_left_out(sphere_case):
     v = check(pts, keep[sub], reference=ref)
     assert v.convexity and v.manifoldness and not v.containment
     assert v.offending["containment"] == (drop,) and v.offending["missing_extreme"] == (drop,)
-    assert v.n_missing_extreme == 1 and v.qhull_agreement is False
+    assert v.n_missing_extreme == 1 and v.qhull_agreement == "disagree"
 
 
 @pytest.mark.parametrize("direction,alarm", [(np.inf, True), (-np.inf, False)])
@@ -340,7 +340,7 @@ def test_verdict_record_and_table_row(sphere_case):
     assert row["qhull_options"] == "Qt" and row["qhull_ok"] is True and row["affine_rank"] == 3
     assert row["distround"] == distround(pts)
     json.loads(row["offending"])
-    assert isinstance(v.containment, bool) and isinstance(v.qhull_agreement, bool)
+    assert isinstance(v.containment, bool) and v.qhull_agreement in ("agree", "disagree", "qhull-wrong")
 
 
 def test_max_offending_limits_the_lists(sphere_case):
@@ -444,9 +444,25 @@ def test_cone_and_brute_containment_agree():
     pts = np.r_[inner, probes]
     he = half_edges(hull, len(pts))
     interior = Interior.from_simplex(pts[witness_simplex(inner)])
-    conv = check_convexity3d(pts, hull, he, interior, closed=True)
+    conv = check_convexity3d(pts, hull, he, closed=True)
     assert conv.ok and conv.center is not None
     fast = check_containment3d(pts, hull, conv.plane, certified=True, center=conv.center, he=he)
     slow = check_containment3d(pts, hull, conv.plane)
     assert fast.method.startswith("cones") and slow.method == "brute"
     assert np.array_equal(fast.outside, slow.outside) and fast.outside.size > 100
+
+
+@given(seed=seeds, n=st.integers(1, 60), m=st.integers(0, 80))
+def test_union_find_components_match_scipy(seed, n, m):
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    from hullstress.checker.topology import components
+
+    rng = np.random.default_rng(seed)
+    u, v = rng.integers(0, n, m), rng.integers(0, n, m)
+    label = components(n, u, v)
+    _, expected = connected_components(coo_matrix((np.ones(m), (u, v)), shape=(n, n)), directed=False)
+    # Same partition, each labelled by its smallest node.
+    assert np.array_equal(label[label], label) and np.all(label <= np.arange(n))
+    assert np.array_equal(np.unique(expected[np.arange(n)], return_inverse=True)[1], np.unique(label, return_inverse=True)[1])

@@ -13,7 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .predicates import _filter2, _filter3, orient2d, orient2d_value, orient3d, orient3d_value
+from .predicates import filter2, filter3, orient2d, orient2d_value, orient3d, orient3d_value
+from .rank import witness_simplex
 
 __all__ = [
     "exact_scale",
@@ -22,22 +23,38 @@ __all__ = [
     "point_plane_distance",
     "point_line_distance",
     "inner_radius",
+    "surface_interior",
+    "cross3",
+    "triangle_array",
+    "vertex_mean",
+    "axis_extents",
 ]
 
 _EPS52 = 2.0**-52  # Qhull's REALepsilon
 
 
-def exact_scale(points: np.ndarray) -> tuple[np.ndarray, int]:
-    """Scale by a power of two so the largest magnitude is in [0.5, 1), when that is exact.
+#: Inputs whose largest magnitude lies in this range are checked unscaled: no product of
+#: three coordinate differences can overflow or sink towards the underflow range there.
+_UNSCALED_LOW = 2.0**-100
+_UNSCALED_HIGH = 2.0**100
+
+
+def exact_scale(points: np.ndarray, *, top: float | None = None) -> tuple[np.ndarray, int]:
+    """Scale by a power of two so the largest magnitude is in [0.5, 1), when needed and exact.
 
     Every orientation sign is invariant under a positive scaling, so the checks
     run on the scaled copy: the float filter then never overflows and rarely
-    meets underflow.  When the scaling would round a tiny coordinate (an input
-    spanning more than ~2000 binades), the points are returned unscaled.
+    meets underflow.  Inputs whose largest magnitude is already within
+    ``[2**-100, 2**100]`` are returned as they are (nothing to gain, one pass
+    over the points saved).  When the scaling would round a tiny coordinate
+    (an input spanning more than ~2000 binades), the points are returned
+    unscaled.
 
     Parameters
     ----------
     points : ndarray of shape (n, d), float64, finite
+    top : float or None
+        The largest coordinate magnitude, when the caller knows it.
 
     Returns
     -------
@@ -50,23 +67,34 @@ def exact_scale(points: np.ndarray) -> tuple[np.ndarray, int]:
     >>> s, k = exact_scale(np.array([[1e300, 0.0], [-3e299, 1.0]]))
     >>> k, float(np.abs(s).max()) < 1.0
     (-997, True)
+    >>> exact_scale(np.array([[3.0, 4.0]]))[1]
+    0
     """
     pts = np.asarray(points, dtype=np.float64)
     if pts.size == 0:
         return pts, 0
-    top = float(np.abs(pts).max())
-    if top == 0.0:
+    if top is None:
+        top = float(max(pts.max(), -pts.min()))
+    if top == 0.0 or _UNSCALED_LOW <= top <= _UNSCALED_HIGH:
         return pts, 0
     k = -int(np.frexp(top)[1])
-    if k == 0:
-        return pts, 0
-    scaled = np.ldexp(pts, k)
-    if np.array_equal(np.ldexp(scaled, -k), pts):
+    # Two exact power-of-two factors (one could overflow): as exact as ldexp, and much faster.
+    scaled = pts * 2.0 ** (k // 2) * 2.0 ** (k - k // 2)
+    if k > 0:  # scaling up below 1 never rounds
+        return scaled, k
+    # Scaling down rounds only values that fall below the normal range.
+    low = np.abs(pts[pts != 0]).min()
+    if math.ldexp(float(low), k) >= 2.0**-1022 or np.array_equal(np.ldexp(scaled, -k), pts):
         return scaled, k
     return pts, 0
 
 
-def distround(points: np.ndarray) -> float:
+def axis_extents(points: np.ndarray) -> list[float]:
+    """The largest coordinate magnitude along each axis (column by column: numpy's axis-0 reduction is slow)."""
+    return [float(np.abs(points[:, j]).max()) for j in range(points.shape[1])] if len(points) else []
+
+
+def distround(points: np.ndarray, *, extents: list[float] | None = None) -> float:
     """Qhull's DISTround for ``points``: the rounding error of a distance computation.
 
     ``eps * (d * min(sqrt(d) * MAXabs, MAXsumcoord) * 1.01 + MAXabs)`` with
@@ -77,6 +105,8 @@ def distround(points: np.ndarray) -> float:
     Parameters
     ----------
     points : ndarray of shape (n, d), float64
+    extents : list of float or None
+        :func:`axis_extents` of ``points``, when the caller has them.
 
     Returns
     -------
@@ -92,14 +122,13 @@ def distround(points: np.ndarray) -> float:
     if pts.ndim != 2 or pts.size == 0:
         return 0.0
     d = pts.shape[1]
-    per_axis = np.abs(pts).max(axis=0)
-    maxabs = float(per_axis.max())
+    per_axis = axis_extents(pts) if extents is None else extents
+    maxabs = max(per_axis)
     # Near the top of the double range the sums overflow; Qhull's formula is
     # linear in the magnitude, so evaluate it on the scaled-down maxima instead.
-    k = int(np.frexp(maxabs)[1]) if maxabs > 0 else 0
-    with np.errstate(under="ignore"):
-        axes = np.ldexp(per_axis, -k)
-    a, s = float(axes.max()), float(axes.sum())
+    k = math.frexp(maxabs)[1] if maxabs > 0 else 0
+    axes = [math.ldexp(v, -k) for v in per_axis]
+    a, s = max(axes), sum(axes)  # left to right, as numpy sums three values
     unit = _EPS52 * (d * min(math.sqrt(d) * a, s) * 1.01 + a)
     try:
         return math.ldexp(unit, k)
@@ -150,6 +179,46 @@ class Interior:
         return False
 
 
+def triangle_array(faces) -> np.ndarray | None:
+    """The faces as an (m, 3) index array when every face is a triangle, else None.
+
+    For normalised faces (every face at least three vertices, which the
+    checker guarantees) that is exactly when there are ``3 m`` indices: one
+    length test instead of ``FaceSet.is_triangles``' pass over the sizes.
+    """
+    if len(faces.indices) == 3 * faces.n_faces:
+        return faces.indices.reshape(-1, 3)
+    return None
+
+
+def vertex_mean(corners: np.ndarray) -> np.ndarray:
+    """The float mean of a surface's vertices (one formula, so every check picks the same candidate point)."""
+    return corners.sum(axis=0) / len(corners)
+
+
+def cross3(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """Row-wise float cross product of (k, 3) arrays (``np.cross`` costs more in set-up than in arithmetic)."""
+    out = np.empty((max(len(u), len(v)), 3))
+    out[:, 0] = u[:, 1] * v[:, 2] - u[:, 2] * v[:, 1]
+    out[:, 1] = u[:, 2] * v[:, 0] - u[:, 0] * v[:, 2]
+    out[:, 2] = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
+    return out
+
+
+def surface_interior(points: np.ndarray, vertices: np.ndarray) -> Interior | None:
+    """The exact centroid of a non-degenerate simplex of a surface's own vertices.
+
+    A closed convex surface has it strictly below every facet (left of every
+    edge in 2D); a surface whose vertices are affinely degenerate (flat, or
+    collinear in 2D) has none, and cannot be convex.
+    """
+    dim = points.shape[1]
+    if not len(vertices):
+        return None
+    simplex = vertices[witness_simplex(points[vertices])]
+    return Interior.from_simplex(points[simplex]) if len(simplex) == dim + 1 else None
+
+
 def point_plane_distance(a: np.ndarray, b: np.ndarray, c: np.ndarray, p: np.ndarray) -> np.ndarray:
     """Float signed distance of p above the plane of (a, b, c) (positive on the normal's side).
 
@@ -194,22 +263,21 @@ def inner_radius(planes: list[np.ndarray], center: np.ndarray) -> float:
     with np.errstate(all="ignore"):
         if len(planes) == 3:
             a, b, c = planes
-            cols = [x[:, i] for x in (a, b, c) for i in range(3)] + [np.full(len(a), center[i]) for i in range(3)]
-            num, num_err, noise = _filter3(*cols)
+            num, num_err, noise = filter3(a, b, c, np.reshape(center, (1, 3)))
             u, v = b - a, c - a
             n = np.cross(u, v)
             terms = np.abs(np.stack([u[:, 1] * v[:, 2], u[:, 2] * v[:, 1], u[:, 2] * v[:, 0], u[:, 0] * v[:, 2], u[:, 0] * v[:, 1], u[:, 1] * v[:, 0]], axis=1))
             err = 8.0 * eps * (terms[:, 0::2] + terms[:, 1::2]) + 2.0**-1000
         else:
             a, b = planes
-            cols = [x[:, i] for x in (a, b) for i in range(2)] + [np.full(len(a), center[i]) for i in range(2)]
-            num, num_err = _filter2(*cols)
+            num, num_err = filter2(a, b, np.reshape(center, (1, 2)))
             noise = 2.0**-1000
             u = b - a
             n = np.stack([u[:, 1], -u[:, 0]], axis=1)
             err = 2.0 * eps * np.abs(n) + 2.0**-1000
         num_low = num - (num_err * 2.0 + noise)
-        den_up = np.sqrt(((np.abs(n) + err) ** 2).sum(axis=1)) * (1.0 + 1e-12)
+        up = np.abs(n) + err
+        den_up = np.sqrt(np.einsum("ij,ij->i", up, up)) * (1.0 + 1e-12)
         r = num_low / den_up
         if not len(r) or not np.isfinite(r).all():
             return 0.0

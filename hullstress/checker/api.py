@@ -7,6 +7,13 @@ status ``fail``); rescale by a power of two (exactly); certify containment,
 convexity and manifoldness (:func:`.certify.certify`); settle the exact
 extreme set; compare with Qhull; grade the severity.
 
+When the faces are exactly the face set of a Qhull reference whose own hull
+passed the exact checks, that certificate is the certificate of the faces
+(the same faces over the same points), so it is reused instead of
+certifying them a second time; everything after it runs unchanged.  The
+verdict is identical either way (``tests/test_checker_regressions.py`` runs
+both paths on every case of the quick profile).
+
 The exact extreme set comes from the checked hull itself when it passes all
 three checks (its corners are then exactly the extreme points), otherwise
 from Qhull's hull when that one passes them, otherwise (2D) an exact monotone
@@ -15,24 +22,28 @@ chain; in 3D with neither hull certified it is unknown (``n_extreme=None``).
 
 from __future__ import annotations
 
-import math
+from fractions import Fraction
 from typing import Any
 
 import numpy as np
 
 from ..contract import FaceSet, normalize_output
 from ..errors import ContractViolation
-from ..verdict import Verdict
+from ..verdict import AGREE, DISAGREE, QHULL_WRONG, Verdict
 from ._geometry import Interior, distround, exact_scale
 from .certify import Certificate, certify
-from .extreme import distinct_rows, exact_extreme_2d, first_of_each, rows_in
+from .extreme import Coordinates, exact_extreme_2d
 from .lowdim import verdict_if_degenerate
-from .predicates import orient2d, orient2d_value, orient3d, orient3d_value
+from .measure import compare, to_float
+from .predicates import orient2d, orient3d
 from .qhull import QhullReference, certified_extremes, qhull_reference
 from .rank import witness_simplex
 from .severity import VOLUME_TOLERANCE_MULTIPLE, relative_magnitudes, severity
 
 __all__ = ["check", "validate_points"]
+
+#: (point, facet) rows held at once by the on-boundary test.
+_CHUNK = 1_000_000
 
 
 def validate_points(points: Any) -> np.ndarray:
@@ -62,49 +73,30 @@ def _normalise(faces: Any, n: int, dim: int) -> np.ndarray | FaceSet:
     return normalize_output(faces, n, dim)
 
 
-def _volume(points: np.ndarray, faces: np.ndarray | FaceSet) -> float:
-    if points.shape[1] == 2:
-        poly = np.asarray(faces)
-        if len(poly) < 3:
-            return 0.0
-        a, b = points[poly], points[np.roll(poly, -1)]
-        return math.fsum(np.nan_to_num(orient2d_value(a, b, a[0])).tolist()) / 2.0
-    tri, _ = faces.fan_triangles()
-    if not len(tri):
-        return 0.0
-    vals = orient3d_value(points[tri[:, 0]], points[tri[:, 1]], points[tri[:, 2]], points[tri[0, 0]])
-    return math.fsum(np.nan_to_num(vals).tolist()) / 6.0
-
-
-def _surface_area(points: np.ndarray, faces: np.ndarray | FaceSet) -> float:
-    with np.errstate(all="ignore"):
-        if points.shape[1] == 2:
-            poly = np.asarray(faces)
-            return float(np.linalg.norm(points[np.roll(poly, -1)] - points[poly], axis=1).sum())
-        tri, _ = faces.fan_triangles()
-        a, b, c = points[tri[:, 0]], points[tri[:, 1]], points[tri[:, 2]]
-        return float(np.linalg.norm(np.cross(b - a, c - a), axis=1).sum() / 2.0)
-
-
 def _on_boundary(points: np.ndarray, idx: np.ndarray, faces: np.ndarray | FaceSet) -> np.ndarray:
-    """Which of ``points[idx]`` lie on a facet plane of a certified convex hull (exact)."""
+    """Which of ``points[idx]`` lie on a facet plane of a certified convex hull (exact), in chunks."""
+    out = np.zeros(len(idx), dtype=bool)
     if not len(idx):
-        return np.zeros(0, dtype=bool)
+        return out
     if points.shape[1] == 2:
         poly = np.asarray(faces)
-        a, b = points[poly], points[np.roll(poly, -1)]
-        m = len(a)
-        s = orient2d(np.tile(a, (len(idx), 1)), np.tile(b, (len(idx), 1)), np.repeat(points[idx], m, axis=0))
+        planes = [points[poly], points[np.roll(poly, -1)]]
+        side = orient2d
     else:
         tri, _ = faces.fan_triangles()
-        m = len(tri)
-        a, b, c = points[tri[:, 0]], points[tri[:, 1]], points[tri[:, 2]]
-        q = len(idx)
-        s = orient3d(np.tile(a, (q, 1)), np.tile(b, (q, 1)), np.tile(c, (q, 1)), np.repeat(points[idx], m, axis=0))
-    return np.any(s.reshape(len(idx), m) == 0, axis=1)
+        planes = [points[tri[:, 0]], points[tri[:, 1]], points[tri[:, 2]]]
+        side = orient3d
+    m = len(planes[0])
+    rows = max(1, _CHUNK // max(m, 1))
+    for start in range(0, len(idx), rows):
+        part = idx[start : start + rows]
+        q = len(part)
+        s = side(*[np.tile(p, (q, 1)) for p in planes], np.repeat(points[part], m, axis=0))
+        out[start : start + q] = np.any(s.reshape(q, m) == 0, axis=1)
+    return out
 
 
-def _detail(cert: Certificate, rel: dict[str, float], agreement: bool | None, qhull_note: str, n_missing: int) -> str:
+def _detail(cert: Certificate, rel: dict[str, float], agreement: str | None, qhull_note: str, n_missing: int) -> str:
     parts = []
     for name in ("containment", "convexity", "manifoldness"):
         reasons = cert.reasons.get(name) or []
@@ -117,15 +109,55 @@ def _detail(cert: Certificate, rel: dict[str, float], agreement: bool | None, qh
             parts.append(f"{name}: {text}")
     if n_missing:
         parts.append(f"extreme points: {n_missing} missing")
-    if agreement is False:
+    if agreement == DISAGREE:
         parts.append(f"qhull: {qhull_note}")
-    if agreement is None and qhull_note:
+    elif qhull_note:
         parts.append(qhull_note)
-    if not parts or (agreement is None and len(parts) == 1 and qhull_note):
-        return "; ".join([f"ok: {len(cert.hull_vertices)} vertices, {cert.n_faces} {'faces' if cert.dim == 3 else 'edges'}"] + parts)
-    if not parts:
-        return f"ok: {len(cert.hull_vertices)} vertices, {cert.n_faces} {'faces' if cert.dim == 3 else 'edges'}"
+    if not parts or (agreement != DISAGREE and len(parts) == 1 and qhull_note):
+        ok = f"ok: {len(cert.hull_vertices)} vertices, {cert.n_faces} {'faces' if cert.dim == 3 else 'edges'}"
+        return "; ".join([ok] + parts)
     return "; ".join(parts)
+
+
+def _same_coordinates(points: np.ndarray, a: np.ndarray, b: np.ndarray) -> bool:
+    """Whether two index sets without repeated coordinates name the same coordinates."""
+    if len(a) != len(b):
+        return False
+    if np.array_equal(np.sort(a), np.sort(b)):
+        return True
+    pa, pb = points[a], points[b]
+    pa, pb = pa[np.lexsort(pa.T[::-1])], pb[np.lexsort(pb.T[::-1])]
+    return bool(np.all(pa == pb))
+
+
+def _agreement(
+    cert: Certificate, reference: QhullReference, same_vertices: bool, n_mine: int, n_theirs: int
+) -> tuple[str, str, float | None]:
+    """Qhull agreement: the value, a note for the detail line, and the volume gap in DISTround (if beyond).
+
+    ``same_vertices``: whether the hull's extreme vertices and Qhull's are the
+    same coordinates (``n_mine`` and ``n_theirs`` of them).
+    """
+    if not reference.qhull_ok:
+        return QHULL_WRONG, "qhull agreement not judged: Qhull's own hull fails the exact checks", None
+    if cert is reference.certificate:  # Qhull's own faces
+        return AGREE, "", None
+    tol = reference.tolerance()
+    same_volume, gap = compare(cert.measure, reference.certificate.measure, tol)
+    if same_vertices and same_volume:
+        return AGREE, "", None
+    notes = []
+    if not same_vertices:
+        notes.append(f"{n_mine} extreme vertices against Qhull's {n_theirs}")
+    rel_gap = None
+    if not same_volume:
+        q = reference.certificate.measure
+        q_abs = abs(q.exact_sum()) / q.denominator
+        relative = to_float(gap / q_abs) if q_abs else to_float(gap)
+        notes.append(f"volume differs by {relative:.3g} (relative)")
+        # The gap as a mean thickness over Qhull's surface, in DISTround: tol is that many DISTround thick.
+        rel_gap = to_float(gap * Fraction(VOLUME_TOLERANCE_MULTIPLE) / tol) if tol else float("inf")
+    return DISAGREE, ", ".join(notes), rel_gap
 
 
 def check(
@@ -135,6 +167,7 @@ def check(
     reference: QhullReference | None = None,
     qhull: bool = True,
     max_offending: int = 20,
+    reuse_reference: bool = True,
 ) -> Verdict:
     """Certify a hull of ``points`` with exact predicates and return the verdict.
 
@@ -153,6 +186,11 @@ def check(
         reference is given).
     max_offending : int
         At most this many indices per kind in ``offending``.
+    reuse_reference : bool
+        When ``faces`` is exactly the face set of a reference whose own hull
+        passed the exact checks, reuse that certificate instead of
+        certifying the same faces again (the verdict is the same; false
+        forces the second certification, for tests).
 
     Returns
     -------
@@ -178,7 +216,7 @@ def check(
     >>> pts = np.array([[0.0, 0], [1, 0], [1, 1], [0, 1], [0.5, 0.5]])
     >>> v = check(pts, [0, 1, 2, 3])
     >>> v.ok, v.n_extreme, v.qhull_agreement
-    (True, 4, True)
+    (True, 4, 'agree')
     >>> v = check(pts, [0, 1, 4, 3])  # cuts the corner (1, 1) off
     >>> v.ok, v.failed_checks, v.offending["containment"]
     (False, ('containment', 'qhull_agreement'), (2,))
@@ -195,16 +233,42 @@ def check(
         raise ValueError(
             f"reference was computed for {reference.n_points} points in {reference.dim}D, got {n} points in {dim}D"
         )
-    scaled, k = exact_scale(pts)
+    if reference is not None and reference.scaled is not None and (
+        reference.points is pts or np.array_equal(reference.points, pts)
+    ):
+        scaled, k = reference.scaled, reference.exponent
+    elif reference is not None and reference.points is not None:
+        raise ValueError("reference was computed for other points (same shape, different coordinates)")
+    else:
+        scaled, k = exact_scale(pts)
     if reference is not None and reference.simplex is not None:
         simplex = reference.simplex
     else:
         simplex = witness_simplex(scaled)
     rank = len(simplex) - 1
-    interior = Interior.from_simplex(scaled[simplex]) if rank == dim else None
-    cert = certify(scaled, normalised)
-    dr = distround(pts)
-    dr_scaled = distround(scaled)
+    if reuse_reference and reference is not None and reference.qhull_ok and reference.same_faces(normalised):
+        # The same faces over the same points: the verdict is a function of the reference alone.
+        if "own verdict" not in reference.memo:
+            reference.memo["own verdict"] = _assemble(pts, scaled, k, rank, reference.certificate, reference, max_offending)
+        verdict = object.__new__(Verdict)  # a shallow copy (frozen record), with a fresh offending dict
+        verdict.__dict__.update(reference.memo["own verdict"].__dict__, offending={})
+        return verdict
+    return _assemble(pts, scaled, k, rank, certify(scaled, normalised), reference, max_offending)
+
+
+def _assemble(
+    pts: np.ndarray,
+    scaled: np.ndarray,
+    k: int,
+    rank: int,
+    cert: Certificate,
+    reference: QhullReference | None,
+    max_offending: int,
+) -> Verdict:
+    """The verdict from a certificate: extreme set, Qhull agreement, severity, offending indices."""
+    dim = pts.shape[1]
+    dr = reference.distround if reference is not None else distround(pts)
+    dr_scaled = dr if k == 0 else distround(scaled)
 
     # The exact extreme set and what the hull's vertices are relative to it.
     ref_certified = reference is not None and reference.qhull_ok is True
@@ -214,65 +278,64 @@ def check(
         extreme = reference.extreme
     elif dim == 2:
         extreme = exact_extreme_2d(scaled)
-    elif interior is not None and reference is None:
+    elif rank == dim and reference is None:
         # Every extreme point is a vertex of this hull or a point outside it.  (With a
         # reference, qhull_reference has already tried this repair on all points.)
-        candidates = [cert.hull_vertices, cert.outside]
-        extreme = certified_extremes(scaled, np.concatenate(candidates), interior)
+        interior = Interior.from_simplex(scaled[witness_simplex(scaled)])
+        extreme = certified_extremes(scaled, np.concatenate([cert.hull_vertices, cert.outside]), interior)
     else:
         extreme = None
-    hull_rows = distinct_rows(scaled, cert.hull_vertices)
-    n_extreme = missing = None
-    if extreme is not None:
-        extreme_rows = distinct_rows(scaled, extreme)
-        n_extreme = len(extreme_rows)
-        rep = first_of_each(scaled, extreme)
-        missing = rep[~rows_in(scaled[rep], hull_rows)]
-        if cert.boundary_nonextreme is not None:
-            n_boundary = len(distinct_rows(scaled, cert.boundary_nonextreme))
+    has_reference = reference is not None and reference.vertices is not None
+    if cert.certified:
+        # A certified surface never visits one coordinate twice (it would wrap twice
+        # around its interior point there), nor does Qhull's when certified: index
+        # sets are coordinate sets.
+        n_extreme, missing = len(extreme), extreme[:0]
+        n_boundary = len(cert.boundary_nonextreme)
+        if has_reference and ref_certified and cert is not reference.certificate:
+            theirs = reference.certificate.extreme
+            same = _same_coordinates(scaled, extreme, theirs)
+            n_mine, n_theirs = len(extreme), len(theirs)
         else:
-            hv = first_of_each(scaled, cert.hull_vertices)
-            others = hv[~rows_in(scaled[hv], extreme_rows)]
-            if ref_certified:
-                others = others[_on_boundary(scaled, others, reference.faces)]
-            n_boundary = len(others)
+            same, n_mine, n_theirs = True, 0, 0
     else:
-        n_boundary = len(distinct_rows(scaled, cert.boundary_nonextreme)) if cert.boundary_nonextreme is not None else 0
+        q_vertices = reference.vertices if has_reference else np.zeros(0, np.int64)
+        ids = Coordinates(scaled, cert.hull_vertices, q_vertices, np.zeros(0, np.int64) if extreme is None else extreme)
+        hull = ids.groups(cert.hull_vertices)
+        n_extreme = missing = extreme_ids = None
+        if extreme is not None:
+            extreme_ids = ids.groups(extreme)
+            n_extreme = len(extreme_ids)
+            rep = ids.first_of_each(extreme)
+            missing = rep[~ids.within(rep, hull)]
+            if cert.boundary_nonextreme is not None:
+                n_boundary = ids.distinct(cert.boundary_nonextreme)
+            else:
+                hv = ids.first_of_each(cert.hull_vertices)
+                others = hv[~ids.within(hv, extreme_ids)]
+                if ref_certified:
+                    others = others[_on_boundary(scaled, others, reference.faces)]
+                n_boundary = len(others)
+        else:
+            n_boundary = ids.distinct(cert.boundary_nonextreme) if cert.boundary_nonextreme is not None else 0
+        same, n_mine, n_theirs = True, 0, 0
+        if has_reference:
+            theirs = ids.groups(q_vertices)
+            mine = hull
+            if extreme_ids is not None:
+                mine, theirs = np.intersect1d(hull, extreme_ids), np.intersect1d(theirs, extreme_ids)
+            same, n_mine, n_theirs = np.array_equal(mine, theirs), len(mine), len(theirs)
 
     # Qhull agreement.
-    agreement: bool | None = None
-    rel = relative_magnitudes(cert.magnitudes, dr_scaled)
+    agreement: str | None = None
     qhull_note = ""
-    if reference is not None and reference.vertices is not None and cert.certified and not ref_certified:
-        # The checked hull is proven exact and Qhull's is proven wrong: a disagreement
-        # would be Qhull's failure, recorded as qhull_ok=False, not this hull's.
-        agreement = None
-        qhull_note = "qhull agreement not judged: Qhull's own hull fails the exact checks"
-    elif reference is not None and reference.vertices is not None:
-        q_rows = distinct_rows(scaled, reference.vertices)
-        if extreme is not None:
-            xh = hull_rows[rows_in(hull_rows, extreme_rows)]
-            xq = q_rows[rows_in(q_rows, extreme_rows)]
-        else:
-            xh, xq = hull_rows, q_rows
-        same_vertices = len(xh) == len(xq) and bool(rows_in(xh, xq).all())
-        vol_h = cert.volume
-        vol_q = _volume(scaled, reference.faces)
-        area_q = _surface_area(scaled, reference.faces)
-        diff = abs(vol_h - vol_q)
-        tol = VOLUME_TOLERANCE_MULTIPLE * dr_scaled * area_q + 2.0**-40 * abs(vol_q)
-        same_volume = diff <= tol
-        agreement = bool(same_vertices and same_volume)
-        if not agreement:
-            notes = []
-            if not same_vertices:
-                notes.append(f"{len(xh)} extreme vertices against Qhull's {len(xq)}")
-            if not same_volume:
-                notes.append(f"volume differs by {diff / vol_q if vol_q else diff:.3g} (relative)")
-                rel["qhull_volume"] = relative_magnitudes({"v": diff / area_q if area_q > 0 else diff}, dr_scaled)["v"]
-            qhull_note = ", ".join(notes)
-    failed = not cert.certified or agreement is False
-    sev, worst = severity(rel, failed=failed, topological=not cert.manifoldness)
+    rel = relative_magnitudes(cert.magnitudes, dr_scaled)
+    if has_reference:
+        agreement, qhull_note, gap = _agreement(cert, reference, same, n_mine, n_theirs)
+        if gap is not None:
+            rel["qhull_volume"] = gap
+    failed = not cert.certified or agreement == DISAGREE
+    sev, worst = severity(rel, failed=failed, topological=cert.structural)
 
     offending = {
         key: tuple(int(x) for x in np.asarray(val)[:max_offending])

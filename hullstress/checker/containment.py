@@ -26,7 +26,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..contract import FaceSet
-from ._geometry import inner_radius
+from ._geometry import cross3, inner_radius
 from .predicates import orient2d, orient3d
 from .topology import HalfEdges
 
@@ -34,6 +34,8 @@ __all__ = ["Containment", "check_containment3d", "check_containment2d"]
 
 _EPS = 2.0**-53
 _CHUNK = 2_000_000  # entries of the points x facets matrix held at once
+_CONE_CHUNK = 500_000  # (point, cone edge) rows held at once: a big polygon face costs rows, not memory
+_SMALL = 50_000  # below this many point-facet entries, brute force beats the cone machinery
 _WALK_STEPS = 64
 
 
@@ -58,6 +60,22 @@ class Containment:
     method: str
 
 
+def _row_max(v: np.ndarray) -> np.ndarray:
+    """Largest entry of each row of a (k, d) array, column by column (numpy's axis=1 reduction is slow on narrow rows)."""
+    out = v[:, 0].copy()
+    for j in range(1, v.shape[1]):
+        np.maximum(out, v[:, j], out=out)
+    return out
+
+
+def _row_sum(v: np.ndarray) -> np.ndarray:
+    """Sum of each row of a (k, d) array, left to right (as ``v.sum(axis=1)`` adds so few terms)."""
+    out = v[:, 0].copy()
+    for j in range(1, v.shape[1]):
+        out += v[:, j]
+    return out
+
+
 def _facet_bounds(planes: list[np.ndarray], pmax: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Float outward normals, offsets and a per-facet bound on the error of ``normal . p - offset``.
 
@@ -73,7 +91,7 @@ def _facet_bounds(planes: list[np.ndarray], pmax: float) -> tuple[np.ndarray, np
         if len(planes) == 3:
             a, b, c = planes
             u, v = b - a, c - a
-            n = np.cross(u, v)
+            n = cross3(u, v)
             terms = np.abs(np.stack([u[:, 1] * v[:, 2], u[:, 2] * v[:, 1], u[:, 2] * v[:, 0], u[:, 0] * v[:, 2], u[:, 0] * v[:, 1], u[:, 1] * v[:, 0]], axis=1))
             err = 8.0 * _EPS * (terms[:, 0::2] + terms[:, 1::2]) + 2.0**-1000
         else:
@@ -82,8 +100,9 @@ def _facet_bounds(planes: list[np.ndarray], pmax: float) -> tuple[np.ndarray, np
             n = np.stack([u[:, 1], -u[:, 0]], axis=1)
             err = 4.0 * _EPS * np.abs(n) + 2.0**-1000
         offset = np.einsum("ij,ij->i", n, a)
-        amax = np.abs(a).max(axis=1)
-        bound = 2.0 * (err.sum(axis=1) + 16.0 * _EPS * np.abs(n).sum(axis=1)) * (pmax + amax) + 2.0**-1000
+        amax = _row_max(np.abs(a))
+        slack = err + 16.0 * _EPS * np.abs(n)
+        bound = 2.0 * _row_sum(slack) * (pmax + amax) + 2.0**-1000
     return n, offset, bound
 
 
@@ -102,7 +121,7 @@ def _distinct_planes(planes: list[np.ndarray]) -> np.ndarray:
     m = len(a)
     with np.errstate(all="ignore"):
         n = np.cross(b - a, c - a)
-        size = np.abs(n).max(axis=1)
+        size = _row_max(np.abs(n))
         unit = n / size[:, None]
         off = np.einsum("ij,ij->i", unit, a)
         key = np.round(np.c_[unit, off / (np.abs(a).max() + 1.0)], 9)
@@ -147,7 +166,7 @@ def _brute(
     """
     if not len(candidates) or not len(planes[0]):
         return np.zeros(0, dtype=np.int64), 0.0
-    if len(planes) == 3 and len(planes[0]) > 1:
+    if len(planes) == 3 and len(planes[0]) > 1 and len(candidates) * len(planes[0]) > _SMALL:
         keep = _distinct_planes(planes)
         planes = [x[keep] for x in planes]
         plane_idx = plane_idx[keep]
@@ -155,7 +174,8 @@ def _brute(
     n, offset, bound = _facet_bounds(planes, pmax)
     with np.errstate(all="ignore"):
         norm = np.sqrt(np.einsum("ij,ij->i", n, n))
-    finite = np.isfinite(n).all(axis=1) & np.isfinite(offset) & np.isfinite(bound)
+    with np.errstate(all="ignore"):
+        finite = np.isfinite(offset) & np.isfinite(bound) & np.isfinite(_row_sum(n))
     m = len(n)
     chunk = max(1, _CHUNK // max(m, 1))
     out = []
@@ -186,6 +206,14 @@ def _brute(
     return np.concatenate(out), max(worst, 0.0)
 
 
+def _unit_rows(v: np.ndarray) -> np.ndarray:
+    """Rows scaled to unit length, for candidate search only (no overflow at 1e300; zero rows stay zero)."""
+    top = _row_max(np.abs(v))
+    v = v / np.where(top > 0, top, 1.0)[:, None]  # first to [-1, 1]: the norm cannot overflow
+    norm = np.sqrt(np.einsum("ij,ij->i", v, v))
+    return np.nan_to_num(v / np.where(norm > 0, norm, 1.0)[:, None])
+
+
 def _deep_points(points: np.ndarray, planes: list[np.ndarray], center: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Points within a rigorous inscribed ball around ``center``: strictly below every plane.
 
@@ -202,27 +230,53 @@ def _deep_points(points: np.ndarray, planes: list[np.ndarray], center: np.ndarra
 # --------------------------------------------------------------------------- 3D
 
 
-def _in_cones(points, center, he: HalfEdges, faces: FaceSet, pts: np.ndarray, cand: np.ndarray):
+def _cone_planes(points: np.ndarray, center: np.ndarray, he: HalfEdges, pmax: float):
+    """Per half-edge (u, v): the plane through ``center``, u and v, as float normal, offset and error bound.
+
+    ``normal . p - offset`` approximates ``-orient3d(center, u, v, p)`` within
+    the bound (:func:`_facet_bounds`): positive on the cone's inner side.
+    """
+    return _facet_bounds([center[None, :], points[he.src], points[he.dst]], pmax)
+
+
+def _in_cones(points, center, he: HalfEdges, faces: FaceSet, pts: np.ndarray, cand: np.ndarray, cones):
     """For each (point, face) pair: all edge signs of the face's cone, reduced per pair.
 
     Returns ``inside`` (point in the closed cone) and, per pair, one half-edge
-    whose plane separates the point from the cone (-1 when inside).
+    whose plane separates the point from the cone (-1 when inside).  Each
+    sign comes from the float cone planes (:func:`_cone_planes`) where their
+    bound decides it, from the exact orient3d otherwise.  Pairs are processed
+    in chunks of at most ``_CONE_CHUNK`` cone edges, so a polygon face with
+    thousands of vertices costs time, not memory.
     """
+    normal, offset, bound = cones
     sizes = faces.sizes[cand]
-    rows = np.repeat(np.arange(len(cand)), sizes)
-    first = np.repeat(faces.offsets[:-1][cand], sizes)
-    within = np.arange(len(rows)) - np.repeat(np.cumsum(sizes) - sizes, sizes)
-    edge = first + within
-    s = orient3d(center, points[he.src[edge]], points[he.dst[edge]], points[pts[rows]])
-    bad = s > 0
-    starts = np.cumsum(sizes) - sizes
-    inside = ~np.logical_or.reduceat(bad, starts)
-    # The first separating half-edge of each pair (a walk step crosses it).
+    inside = np.zeros(len(cand), dtype=bool)
     exit_edge = np.full(len(cand), -1, dtype=np.int64)
-    bad_rows = np.flatnonzero(bad)
-    if bad_rows.size:
-        first_bad, where = np.unique(rows[bad_rows], return_index=True)
-        exit_edge[first_bad] = edge[bad_rows[where]]
+    ends = np.cumsum(sizes)
+    lo = 0
+    while lo < len(cand):
+        hi = max(lo + 1, int(np.searchsorted(ends, ends[lo] - sizes[lo] + _CONE_CHUNK, side="right")))
+        part = slice(lo, hi)
+        sz = sizes[part]
+        rows = np.repeat(np.arange(hi - lo), sz)
+        starts = np.cumsum(sz) - sz
+        edge = np.repeat(faces.offsets[:-1][cand[part]], sz) + np.arange(len(rows)) - np.repeat(starts, sz)
+        p = points[pts[part][rows]]
+        with np.errstate(all="ignore"):
+            s = np.einsum("ij,ij->i", normal[edge], p) - offset[edge]
+        bad = s < -bound[edge]
+        gray = np.flatnonzero(~bad & ~(s > bound[edge]))
+        if gray.size:
+            e = edge[gray]
+            bad[gray] = orient3d(center, points[he.src[e]], points[he.dst[e]], p[gray]) > 0
+        inside[part] = ~np.logical_or.reduceat(bad, starts)
+        # The first separating half-edge of each pair (a walk step crosses it).
+        bad_rows = np.flatnonzero(bad)
+        if bad_rows.size:
+            first_bad, where = np.unique(rows[bad_rows], return_index=True)
+            exit_edge[lo + first_bad] = edge[bad_rows[where]]
+        lo = hi
     return inside, exit_edge
 
 
@@ -234,7 +288,7 @@ def check_containment3d(
     certified: bool = False,
     center: np.ndarray | None = None,
     he: HalfEdges | None = None,
-    k: int = 4,
+    k: int = 1,
 ) -> Containment:
     """Check that no point lies strictly outside any facet plane of a 3D surface.
 
@@ -263,11 +317,16 @@ def check_containment3d(
     has = np.flatnonzero(plane[:, 0] >= 0)
     tri = plane[has]
     planes = [points[tri[:, 0]], points[tri[:, 1]], points[tri[:, 2]]]
-    if center is None or not len(has):
-        outside, worst = _brute(points, planes, tri, np.arange(n, dtype=np.int64))
+    cones = certified and he is not None and center is not None
+    if n * len(has) <= _SMALL or center is None or not len(has):
+        todo = np.ones(n, dtype=bool)
+        if certified and center is not None:  # the surface's own vertices lie on the certified convex surface
+            todo[faces.indices] = False
+        candidates = np.flatnonzero(todo)
+        outside, worst = _brute(points, planes, tri, candidates)
         return Containment(not outside.size, outside, worst, "brute")
     rel, deep = _deep_points(points, planes, center)
-    if not (certified and he is not None):
+    if not cones:
         # Not certified convex: still, the inscribed ball is below every plane.
         outside, worst = _brute(points, planes, tri, np.flatnonzero(~deep))
         return Containment(not outside.size, outside, worst, "brute")
@@ -278,15 +337,15 @@ def check_containment3d(
 
     # Candidate facets by direction from the center.
     face_ids = has
-    centroid = (planes[0] + planes[1] + planes[2]) / 3.0 - center
     with np.errstate(all="ignore"):
-        centroid /= np.linalg.norm(centroid, axis=1)[:, None]
-        dirs = rel[todo] / np.linalg.norm(rel[todo], axis=1)[:, None]
-    dirs = np.nan_to_num(dirs)
-    centroid = np.nan_to_num(centroid)
+        centroid = _unit_rows((planes[0] + planes[1] + planes[2]) / 3.0 - center)
+        dirs = _unit_rows(rel[todo])
     kk = min(k, len(face_ids))
+    cones = _cone_planes(points, center, he, float(np.abs(points[todo]).max()))
     _, nearest = cKDTree(centroid).query(dirs, k=kk)
-    nearest = nearest.reshape(len(todo), kk)
+    # A direction the tree could not place (index == len) just gets no candidate: the
+    # walk and brute force below still decide every point exactly.
+    nearest = np.minimum(nearest.reshape(len(todo), kk), len(face_ids) - 1)
     located = np.full(len(todo), -1, dtype=np.int64)
     exits = np.full(len(todo), -1, dtype=np.int64)
     for j in range(kk):
@@ -294,7 +353,7 @@ def check_containment3d(
         if not open_.size:
             break
         cand = face_ids[nearest[open_, j]]
-        inside, exit_edge = _in_cones(points, center, he, faces, todo[open_], cand)
+        inside, exit_edge = _in_cones(points, center, he, faces, todo[open_], cand, cones)
         located[open_[inside]] = cand[inside]
         if j == 0:
             exits[open_] = exit_edge
@@ -310,7 +369,7 @@ def check_containment3d(
         if not open_.size:
             break
         cand = he.face[twin]
-        inside, walk = _in_cones(points, center, he, faces, todo[open_], cand)
+        inside, walk = _in_cones(points, center, he, faces, todo[open_], cand, cones)
         located[open_[inside]] = cand[inside]
         open_, walk = open_[~inside], walk[~inside]
     lost = todo[located < 0]
@@ -362,8 +421,12 @@ def check_containment2d(
     a_idx, b_idx = a_idx[keep], b_idx[keep]
     planes = [points[a_idx], points[b_idx]]
     plane_idx = np.stack([a_idx, b_idx], axis=1)
-    if center is None or not len(a_idx):
-        outside, worst = _brute(points, planes, plane_idx, np.arange(n, dtype=np.int64))
+    if n * len(a_idx) <= _SMALL or center is None or not len(a_idx):
+        todo = np.ones(n, dtype=bool)
+        if certified and center is not None and len(a_idx) >= 3:  # vertices of a certified convex polygon
+            todo[polygon] = False
+        candidates = np.flatnonzero(todo)
+        outside, worst = _brute(points, planes, plane_idx, candidates)
         return Containment(not outside.size, outside, worst, "brute")
     rel, deep = _deep_points(points, planes, center)
     if not (certified and len(a_idx) >= 3):

@@ -4,19 +4,22 @@ A surface is convex when
 
 1. every face is non-degenerate: a triangle whose vertices are not collinear;
    a polygon with distinct vertex coordinates, planar (every vertex on the
-   plane of a non-collinear triple) and convex (in a coordinate projection
-   where that triple does not collapse, every vertex is on the inner side of
-   every edge: all O(k^2) pairs are tested, which also rules out polygons
-   that wind twice);
+   plane of a non-collinear triple) and convex: in a coordinate projection
+   where that triple does not collapse, every turn goes the triple's way or
+   straight on (never back), and the edge directions turn once around
+   (their x-components change sign exactly twice), which rules out polygons
+   that wind twice.  That is O(k) for a k-gon, not the O(k^2) of testing
+   every vertex against every edge;
 2. across every edge, no vertex of the neighbouring face is strictly above
    the face's plane (no reflex edge);
-3. one interior point (the exact centroid of a non-degenerate simplex of
-   the surface's own vertices, strictly inside their hull) is strictly below
-   every face;
-4. when the surface is a closed oriented manifold, a ray from that interior
-   point crosses it exactly once (the radial projection has degree 1).  With
-   1-3 this rules out a locally convex surface that wraps twice around the
-   interior point, which 1-3 alone cannot see (a branched double cover).
+3. one interior point is strictly below every face: a float point (the
+   vertices' mean) when it passes that test exactly, else the exact centroid
+   of a non-degenerate simplex of the surface's own vertices;
+4. when the surface is a closed oriented manifold, it wraps exactly once
+   around that interior point (:mod:`.wrap`: a ray count with a symbolically
+   perturbed ray, decided at every scale).  With 1-3 this rules out a
+   locally convex surface that wraps twice around the interior point, which
+   1-3 alone cannot see (a branched double cover).
 
 Each violation also gets a float magnitude (a distance) for the severity.
 """
@@ -28,9 +31,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..contract import FaceSet
-from ._geometry import Interior, point_line_distance, point_plane_distance
+from ._geometry import point_plane_distance, surface_interior, triangle_array, vertex_mean
 from .predicates import collinear3d, orient2d, orient3d, orient3d_mean
 from .topology import HalfEdges
+from .wrap import wrap_number_3d
 
 __all__ = ["Convexity3D", "face_planes", "check_convexity3d"]
 
@@ -80,6 +84,13 @@ class Convexity3D:
 
 def face_planes(points: np.ndarray, faces: FaceSet) -> np.ndarray:
     """The first non-collinear fan triple ``(v0, v_i, v_i+1)`` of each face, or -1."""
+    tri = triangle_array(faces)
+    if tri is not None:
+        plane = tri.copy()
+        if len(plane):
+            flat = collinear3d(points[plane[:, 0]], points[plane[:, 1]], points[plane[:, 2]])
+            plane[flat] = -1
+        return plane
     tri, face_of = faces.fan_triangles()
     plane = np.full((faces.n_faces, 3), -1, dtype=np.int64)
     if not len(tri):
@@ -91,8 +102,55 @@ def face_planes(points: np.ndarray, faces: FaceSet) -> np.ndarray:
     return plane
 
 
+def _projection(points: np.ndarray, plane: np.ndarray, big: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Per face of ``big``: a coordinate pair where its plane triple keeps its orientation, and that sign."""
+    pa, pb, pc = points[plane[big, 0]], points[plane[big, 1]], points[plane[big, 2]]
+    axes = np.full(len(big), -1)
+    ref_sign = np.zeros(len(big), dtype=np.int8)
+    for choice, (i, j) in enumerate(_PAIRS):
+        todo = np.flatnonzero(axes < 0)
+        if not todo.size:
+            break
+        s = orient2d(pa[todo][:, [i, j]], pb[todo][:, [i, j]], pc[todo][:, [i, j]])
+        hit = s != 0
+        axes[todo[hit]] = choice
+        ref_sign[todo[hit]] = s[hit]
+    return axes, ref_sign
+
+
+_PAIRS = np.array([(0, 1), (1, 2), (2, 0)])
+#: Rows of edge-vertex pairs held at once when measuring a polygon that winds more than once.
+_PAIR_CHUNK = 1_000_000
+
+
+def _outside_magnitude(p2: np.ndarray, sign: int) -> float:
+    """Largest distance of a vertex outside an edge line of a projected polygon (float, for reporting).
+
+    O(k^2) time for a k-gon, in chunks of edges (bounded memory); run only on
+    polygons already found not convex.
+    """
+    k = len(p2)
+    u = np.roll(p2, -1, axis=0) - p2
+    with np.errstate(all="ignore"):
+        length = np.sqrt(np.einsum("ij,ij->i", u, u))
+    worst = 0.0
+    rows = max(1, _PAIR_CHUNK // k)
+    for start in range(0, k, rows):
+        e = slice(start, min(k, start + rows))
+        w = p2[None, :, :] - p2[e][:, None, :]
+        with np.errstate(all="ignore"):
+            cross = u[e][:, 0, None] * w[:, :, 1] - u[e][:, 1, None] * w[:, :, 0]
+            dist = np.nan_to_num(-sign * cross / length[e][:, None], nan=0.0, posinf=0.0, neginf=0.0)
+        worst = max(worst, float(dist.max()))
+    return worst
+
+
 def _polygon_defects(points: np.ndarray, faces: FaceSet, plane: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Non-planar, non-convex or duplicate-coordinate polygons (k > 3) and their magnitudes."""
+    """Non-planar, non-convex or duplicate-coordinate polygons (k > 3) and their magnitudes.
+
+    Everything is O(k) per k-gon (a sort for the duplicates): no step holds
+    k^2 vertex-edge pairs.
+    """
     m = faces.n_faces
     bad = np.zeros(m, dtype=bool)
     mag = np.zeros(m)
@@ -101,7 +159,10 @@ def _polygon_defects(points: np.ndarray, faces: FaceSet, plane: np.ndarray) -> t
         return bad, mag
     sizes = faces.sizes[big]
     corner_face = np.repeat(big, sizes)
-    corner_vertex = np.concatenate([faces.face(f) for f in big])
+    local = np.repeat(np.arange(len(big)), sizes)
+    starts = np.repeat(faces.offsets[:-1][big], sizes)
+    within = np.arange(len(corner_face)) - np.repeat(np.cumsum(sizes) - sizes, sizes)
+    corner_vertex = faces.indices[starts + within]
     # Distinct coordinates: a polygon touching itself is not a convex polygon.
     coords = points[corner_vertex]
     order = np.lexsort((coords[:, 2], coords[:, 1], coords[:, 0], corner_face))
@@ -116,45 +177,43 @@ def _polygon_defects(points: np.ndarray, faces: FaceSet, plane: np.ndarray) -> t
         dist = np.abs(point_plane_distance(a[off], b[off], c[off], coords[off]))
         np.maximum.at(mag, corner_face[off], dist)
     # Convexity in a projection where the plane triple keeps its orientation.
-    pa, pb, pc = points[plane[big, 0]], points[plane[big, 1]], points[plane[big, 2]]
-    axes = np.full(len(big), -1)
-    ref_sign = np.zeros(len(big), dtype=np.int8)
-    for choice, (i, j) in enumerate(((0, 1), (1, 2), (2, 0))):
-        todo = np.flatnonzero(axes < 0)
-        if not todo.size:
-            break
-        s = orient2d(pa[todo][:, [i, j]], pb[todo][:, [i, j]], pc[todo][:, [i, j]])
-        hit = s != 0
-        axes[todo[hit]] = choice
-        ref_sign[todo[hit]] = s[hit]
-    proj = np.array([(0, 1), (1, 2), (2, 0)])
-    # All (edge, vertex) pairs per polygon: sum of k^2 rows.
-    pair_face, pair_e, pair_w = [], [], []
-    for local, f in enumerate(big):
-        verts = faces.face(f)
-        k = len(verts)
-        e = np.repeat(np.arange(k), k)
-        w = np.tile(np.arange(k), k)
-        pair_face.append(np.full(k * k, local))
-        pair_e.append(np.stack([verts[e], verts[(e + 1) % k]], axis=1))
-        pair_w.append(verts[w])
-    pf = np.concatenate(pair_face)
-    pe = np.concatenate(pair_e)
-    pw = np.concatenate(pair_w)
-    cols = proj[axes[pf]]
-    rows = np.arange(len(pf))[:, None]
-    e0, e1, w2 = points[pe[:, 0]][rows, cols], points[pe[:, 1]][rows, cols], points[pw][rows, cols]
-    s = orient2d(e0, e1, w2)
-    wrong = s * ref_sign[pf] < 0
-    if wrong.any():
-        bad[np.unique(big[pf[wrong]])] = True
-        dist = np.abs(point_line_distance(e0[wrong], e1[wrong], w2[wrong]))
-        np.maximum.at(mag, big[pf[wrong]], dist)
+    axes, ref_sign = _projection(points, plane, big)
+    p2 = np.take_along_axis(coords, _PAIRS[axes[local]], axis=1)
+    size_c = np.repeat(sizes, sizes)
+    base = np.repeat(np.cumsum(sizes) - sizes, sizes)
+    prev = p2[base + (within - 1) % size_c]
+    nxt = p2[base + (within + 1) % size_c]
+    turn = orient2d(prev, p2, nxt) * ref_sign[local]
+    reflex = turn < 0
+    # Straight on is allowed (a vertex on an edge), turning back is not.
+    with np.errstate(over="ignore"):
+        back = (turn == 0) & np.any(np.sign(p2 - prev) * np.sign(nxt - p2) < 0, axis=1)
+    wrong = reflex | back
+    # The edge directions turn once around: their x-signs change exactly twice (zeros skipped).
+    sx = np.sign(nxt[:, 0] - p2[:, 0]).astype(np.int8)
+    keep = np.flatnonzero(sx != 0)
+    f_keep, s_keep = local[keep], sx[keep]
+    group_start = np.r_[True, f_keep[1:] != f_keep[:-1]]
+    first_of = np.maximum.accumulate(np.where(group_start, np.arange(len(keep)), 0))
+    follow = np.r_[s_keep[1:], 0]
+    group_end = np.r_[f_keep[1:] != f_keep[:-1], True]
+    follow[group_end] = s_keep[first_of[group_end]]
+    changes = np.bincount(f_keep, weights=s_keep != follow, minlength=len(big))
+    not_convex = np.union1d(local[wrong], np.flatnonzero(changes != 2))
+    for w in not_convex:
+        f = big[w]
+        bad[f] = True
+        mag[f] = max(mag[f], _outside_magnitude(p2[local == w], int(ref_sign[w])))
     return bad, mag
 
 
 def _edge_pairs(he: HalfEdges, n_points: int) -> tuple[np.ndarray, np.ndarray]:
     """Ordered pairs of half-edges (i, j) on the same undirected edge, in different faces."""
+    if he.paired:
+        i = np.arange(len(he.src))
+        j = he.twin
+        keep = he.face[i] != he.face[j]
+        return i[keep], j[keep]
     lo = np.minimum(he.src, he.dst)
     hi = np.maximum(he.src, he.dst)
     key = lo * max(n_points, 1) + hi
@@ -178,31 +237,21 @@ def _edge_pairs(he: HalfEdges, n_points: int) -> tuple[np.ndarray, np.ndarray]:
     return i[keep], j[keep]
 
 
-def _degree(points: np.ndarray, faces: FaceSet, side_of_ray, rng: np.random.Generator) -> int | None:
-    """Faces whose cone (from the interior point) strictly contains a random ray; None if unlucky."""
-    verts = faces.indices
-    face = np.repeat(np.arange(faces.n_faces), faces.sizes)
-    start = faces.offsets[:-1][face]
-    nxt = faces.indices[start + (np.arange(len(verts)) - start + 1) % faces.sizes[face]]
-    for _ in range(8):
-        s = side_of_ray(points[verts], points[nxt], rng)
-        inside = np.ones(faces.n_faces, dtype=bool)
-        touching = np.zeros(faces.n_faces, dtype=bool)
-        np.logical_and.at(inside, face, s > 0)
-        np.logical_or.at(touching, face, s == 0)
-        nonneg = np.ones(faces.n_faces, dtype=bool)
-        np.logical_and.at(nonneg, face, s >= 0)
-        if (nonneg & touching).any():
-            continue  # the ray grazes an edge or a vertex: draw another one
-        return int(inside.sum())
-    return None
+def _far_vertices(he: HalfEdges, plane: np.ndarray, i: np.ndarray, j: np.ndarray, triangles: bool):
+    """For each pair (i, j): the vertices of face j's plane triple off the edge of i, as (pair row, vertex)."""
+    if triangles and he.paired:
+        # The vertex of j's triangle opposite the shared edge.
+        return np.arange(len(i)), he.dst[he.next[j]]
+    far = plane[he.face[j]]
+    off_edge = (far != he.src[i][:, None]) & (far != he.dst[i][:, None])
+    row, col = np.nonzero(off_edge)
+    return row, far[row, col]
 
 
 def check_convexity3d(
     points: np.ndarray,
     faces: FaceSet,
     he: HalfEdges,
-    interior: Interior | None,
     *,
     closed: bool,
     seed: int = 0,
@@ -215,14 +264,11 @@ def check_convexity3d(
     faces : FaceSet
     he : HalfEdges
         From :func:`hullstress.checker.topology.half_edges`.
-    interior : Interior or None
-        None when the surface's vertices are flat (affine rank < 3): no
-        interior point exists, so the interior-point condition fails.
     closed : bool
-        Whether the surface passed the manifoldness check; the degree test
-        runs only then.
+        Whether the surface passed the manifoldness check; the wrap-number
+        test runs only then.
     seed : int
-        For the random ray of the degree test (the verdict does not depend on it).
+        For the ray of the wrap-number test (the verdict does not depend on it).
 
     Returns
     -------
@@ -231,11 +277,14 @@ def check_convexity3d(
     n = len(points)
     reasons: list[str] = []
     mags: dict[str, float] = {}
+    triangles = triangle_array(faces) is not None
     plane = face_planes(points, faces)
     no_plane = plane[:, 0] < 0
     degenerate = no_plane.copy()
-    poly_bad, poly_mag = _polygon_defects(points, faces, plane)
-    degenerate |= poly_bad
+    poly_mag = np.zeros(0)
+    if not triangles:
+        poly_bad, poly_mag = _polygon_defects(points, faces, plane)
+        degenerate |= poly_bad
     if degenerate.any():
         reasons.append(f"{int(degenerate.sum())} degenerate faces")
         mags["degenerate"] = float(poly_mag.max()) if len(poly_mag) else 0.0
@@ -243,19 +292,28 @@ def check_convexity3d(
     # Reflex edges: the neighbouring face's plane-triple vertices off the shared edge,
     # against this face's plane.  (Vertices on the edge are on the plane exactly:
     # testing them would only send zeros to the slow exact stage.)
-    i, j = _edge_pairs(he, n)
+    if triangles and he.paired:
+        # One pair per edge: for two triangles (a, b, c) and (b, a, d) the two tests,
+        # orient3d(a, b, c, d) and orient3d(b, a, d, c), are the same determinant up
+        # to an even permutation, so the reverse pair has the same exact sign.
+        i = np.flatnonzero(he.src < he.dst)
+        j = he.twin[i]
+        i, j = i[he.face[i] != he.face[j]], j[he.face[i] != he.face[j]]
+    else:
+        i, j = _edge_pairs(he, n)
     usable = ~no_plane[he.face[i]] & ~no_plane[he.face[j]]
     i, j = i[usable], j[usable]
     fi, fj = he.face[i], he.face[j]
-    far = plane[fj]
-    off_edge = (far != he.src[i][:, None]) & (far != he.dst[i][:, None])
-    row, col = np.nonzero(off_edge)
+    row, far = _far_vertices(he, plane, i, j, triangles)
     pi = plane[fi[row]]
-    sign = orient3d(points[pi[:, 0]], points[pi[:, 1]], points[pi[:, 2]], points[far[row, col]])
-    worst = np.full(len(fi), 2, dtype=np.int8)  # smallest sign over the far vertices
-    best = np.full(len(fi), -2, dtype=np.int8)
-    np.minimum.at(worst, row, sign)
-    np.maximum.at(best, row, sign)
+    sign = orient3d(points[pi[:, 0]], points[pi[:, 1]], points[pi[:, 2]], points[far])
+    if len(row) == len(fi):  # one far vertex per pair
+        worst = best = sign
+    else:
+        worst = np.full(len(fi), 2, dtype=np.int8)  # smallest sign over the far vertices
+        best = np.full(len(fi), -2, dtype=np.int8)
+        np.minimum.at(worst, row, sign)
+        np.maximum.at(best, row, sign)
     reflex = worst < 0
     n_reflex = 0
     reflex_faces = np.zeros(0, np.int64)
@@ -267,7 +325,11 @@ def check_convexity3d(
         reasons.append(f"{n_reflex} reflex edges")
         bad_rows = np.flatnonzero(reflex[row] & (sign < 0))
         pb = plane[fi[row[bad_rows]]]
-        dist = point_plane_distance(points[pb[:, 0]], points[pb[:, 1]], points[pb[:, 2]], points[far[row[bad_rows], col[bad_rows]]])
+        dist = point_plane_distance(points[pb[:, 0]], points[pb[:, 1]], points[pb[:, 2]], points[far[bad_rows]])
+        if triangles and he.paired:  # the reverse pairs' distances too
+            back = plane[fj[reflex]]
+            far_back = he.dst[he.next[i[reflex]]]
+            dist = np.r_[dist, point_plane_distance(points[back[:, 0]], points[back[:, 1]], points[back[:, 2]], points[far_back])]
         mags["reflex"] = float(dist.max())
     sharp_mask = best > 0
     src_u, dst_u = he.src[i[sharp_mask]], he.dst[i[sharp_mask]]
@@ -275,42 +337,41 @@ def check_convexity3d(
     sharp_key = np.unique(np.minimum(src_u, dst_u) * nn + np.maximum(src_u, dst_u))
     sharp_edges = np.stack([sharp_key // nn, sharp_key % nn], axis=1).astype(np.int64)
 
-    # The interior point strictly below every face.
+    # An interior point strictly below every face.  First the vertices' mean, a float
+    # point: it sits near the middle of round hulls (a large inscribed ball settles
+    # more points in the containment shortcut), and a vertex strictly below a face
+    # (a sharp edge) proves the vertices are not coplanar.  Otherwise, or when the
+    # surface already failed, the exact centroid of a simplex of its vertices decides
+    # and names the faces it is not below.
     has_plane = np.flatnonzero(~no_plane)
     pa, pb, pc = points[plane[has_plane, 0]], points[plane[has_plane, 1]], points[plane[has_plane, 2]]
+    vertices = np.unique(faces.indices)
+    mean = vertex_mean(points[vertices]) if len(vertices) else None
     center = None
-    if interior is None:
-        flipped = np.zeros(0, dtype=np.int64)
-        reasons.append("no interior point: the surface's vertices are coplanar")
+    interior = None
+    flipped = np.zeros(0, dtype=np.int64)
+    if not reasons and len(sharp_key) and bool(np.all(orient3d(pa, pb, pc, mean) > 0)):
+        center = mean
     else:
-        below = orient3d_mean(pa, pb, pc, interior.rows) > 0
-        flipped = has_plane[~below]
-        if flipped.size:
-            reasons.append(f"{flipped.size} faces with the interior point not strictly below")
-            dist = point_plane_distance(pa[~below], pb[~below], pc[~below], interior.approx)
-            mags["flipped"] = float(np.maximum(dist, 0.0).max())
-        # The vertices' mean sits near the middle of round hulls: a larger inscribed ball
-        # makes the containment shortcut settle more points.
-        candidates = (points[np.unique(faces.indices)].mean(axis=0), interior.approx) if len(has_plane) else ()
-        for candidate in candidates:
-            if bool(np.all(orient3d(pa, pb, pc, candidate) > 0)):
-                center = np.asarray(candidate, dtype=np.float64)
-                break
+        interior = surface_interior(points, vertices)
+        if interior is None:
+            reasons.append("no interior point: the surface's vertices are coplanar")
+        else:
+            below = orient3d_mean(pa, pb, pc, interior.rows) > 0
+            flipped = has_plane[~below]
+            if flipped.size:
+                reasons.append(f"{flipped.size} faces with the interior point not strictly below")
+                dist = point_plane_distance(pa[~below], pb[~below], pc[~below], interior.approx)
+                mags["flipped"] = float(np.maximum(dist, 0.0).max())
+            for candidate in (mean, interior.approx) if len(has_plane) else ():
+                if bool(np.all(orient3d(pa, pb, pc, candidate) > 0)):
+                    center = np.asarray(candidate, dtype=np.float64)
+                    break
 
     degree = None
-    if closed and not reasons and interior is not None:
-        rng = np.random.default_rng(seed)
-        if center is not None:
-            def side_of_ray(u, v, rng, _c=center):
-                q = _c + rng.normal(size=3)
-                return -orient3d(_c, u, v, q)  # > 0: q strictly on the inner side of the plane (o, u, v)
-        else:
-            def side_of_ray(u, v, rng, _i=interior):
-                q = _i.approx + rng.normal(size=3)
-                # orient3d(o, u, v, q) = -orient3d(u, v, q, o) (a 4-cycle of the rows).
-                return orient3d_mean(u, v, q, _i.rows)
-        degree = _degree(points, faces, side_of_ray, rng)
-        if degree is not None and degree != 1:
+    if closed and not reasons:
+        degree = wrap_number_3d(points, faces, center, interior, seed)
+        if degree != 1:
             reasons.append(f"the surface wraps {degree} times around the interior point")
 
     return Convexity3D(

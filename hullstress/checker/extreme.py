@@ -12,7 +12,7 @@ from fractions import Fraction
 
 import numpy as np
 
-__all__ = ["exact_extreme_2d", "distinct_rows", "first_of_each", "rows_in"]
+__all__ = ["exact_extreme_2d", "first_of_each", "Coordinates"]
 
 _ERRBOUND = (3.0 + 16.0 * 2.0**-53) * 2.0**-53
 
@@ -97,23 +97,49 @@ def first_of_each(points: np.ndarray, idx: np.ndarray) -> np.ndarray:
     return np.sort(idx[first])
 
 
-def distinct_rows(points: np.ndarray, idx: np.ndarray) -> np.ndarray:
-    """The rows ``points[idx]`` with duplicates removed, as a (k, d) array."""
-    return np.asarray(points)[first_of_each(points, idx)] + 0.0
+class Coordinates:
+    """Which points of a subset share coordinates: one integer id per distinct coordinate.
 
+    Built once per verdict over the indices it will compare (hull vertices,
+    extreme points, Qhull's vertices), so that every set operation after it
+    is on small integers instead of rows of floats compared byte by byte.
 
-def rows_in(rows: np.ndarray, table: np.ndarray) -> np.ndarray:
-    """For each row of ``rows``, whether it equals some row of ``table`` (exact float equality).
-
-    Parameters
-    ----------
-    rows : ndarray of shape (k, d)
-    table : ndarray of shape (t, d)
-
-    Returns
-    -------
-    ndarray of shape (k,), bool
+    Examples
+    --------
+    >>> pts = np.array([[0.0, 1], [2, 3], [0, 1], [-0.0, 1]])
+    >>> ids = Coordinates(pts, np.array([0, 1, 2, 3]))
+    >>> ids.distinct(np.array([0, 2, 3])), ids.first_of_each(np.array([3, 2, 1])).tolist()
+    (1, [1, 3])
     """
-    if not len(rows) or not len(table):
-        return np.zeros(len(rows), dtype=bool)
-    return np.isin(_keys(rows), _keys(table))
+
+    def __init__(self, points: np.ndarray, *index_arrays: np.ndarray):
+        idx = np.unique(np.concatenate([np.asarray(i, dtype=np.int64) for i in index_arrays]))
+        rows = points[idx] + 0.0  # -0.0 and 0.0 are the same coordinate
+        order = np.lexsort(rows.T[::-1])
+        srt = rows[order]
+        new = np.empty(len(idx), dtype=bool)
+        new[:1] = True
+        np.any(srt[1:] != srt[:-1], axis=1, out=new[1:])
+        self._id = np.full(len(points), -1, dtype=np.int64)
+        self._id[idx[order]] = np.cumsum(new) - 1
+        self.count = int(new.sum())
+
+    def groups(self, idx: np.ndarray) -> np.ndarray:
+        """The distinct coordinate ids of ``points[idx]`` (sorted)."""
+        return np.unique(self._id[idx])
+
+    def distinct(self, idx: np.ndarray) -> int:
+        """How many distinct coordinates ``points[idx]`` holds."""
+        return len(self.groups(idx))
+
+    def first_of_each(self, idx: np.ndarray) -> np.ndarray:
+        """The indices of ``idx`` whose coordinates appear first, one per distinct coordinate (sorted)."""
+        idx = np.asarray(idx, dtype=np.int64)
+        _, first = np.unique(self._id[idx], return_index=True)
+        return np.sort(idx[first])
+
+    def within(self, idx: np.ndarray, groups: np.ndarray) -> np.ndarray:
+        """For each of ``idx``, whether its coordinate is among ``groups`` (ids from :meth:`groups`)."""
+        mark = np.zeros(self.count, dtype=bool)
+        mark[groups] = True
+        return mark[self._id[idx]]

@@ -8,8 +8,10 @@ vertex (and those not overlapping), positive signed area (exact).
 Convexity, the 2D reading of the 3D conditions: no zero-length edge (a
 degenerate facet); at every vertex the next vertex is not strictly right of
 the previous edge (no reflex vertex); one interior point strictly left of every
-edge; and a ray from it crosses the polygon once (a locally convex polygon
-that winds twice, like a {7/2} star, fails only this last test).
+edge (the vertices' mean when it passes exactly and some turn is strictly
+left, else the exact centroid of a triangle of the polygon's vertices); and
+the polygon winds once around it (:func:`.wrap.wrap_number_2d`: a locally
+convex polygon that winds twice, like a {7/2} star, fails only this test).
 """
 
 from __future__ import annotations
@@ -18,8 +20,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._geometry import Interior, point_line_distance
-from .predicates import orient2d, orient2d_mean, orient2d_sum_sign
+from ._geometry import point_line_distance, surface_interior, vertex_mean
+from .measure import Measure, surface_measure
+from .predicates import orient2d, orient2d_mean
+from .wrap import wrap_number_2d
 
 __all__ = ["Polygon2D", "check_polygon2d", "self_intersections"]
 
@@ -47,6 +51,8 @@ class Polygon2D:
         A float point verified strictly left of every edge.
     magnitudes : dict of str to float
     reasons_manifold, reasons_convex : list of str
+    wraps : int or None
+        How many times the polygon winds around its interior point (when tested).
     """
 
     manifold_ok: bool
@@ -60,6 +66,7 @@ class Polygon2D:
     magnitudes: dict[str, float] = field(default_factory=dict)
     reasons_manifold: list[str] = field(default_factory=list)
     reasons_convex: list[str] = field(default_factory=list)
+    wraps: int | None = None
 
 
 def _segments_meet(p1, p2, q1, q2) -> np.ndarray:
@@ -127,26 +134,9 @@ def self_intersections(points: np.ndarray, poly: np.ndarray) -> np.ndarray:
     return np.flatnonzero(bad)
 
 
-def _degree(points, poly, interior: Interior, center, rng) -> int | None:
-    a = points[poly]
-    b = points[np.roll(poly, -1)]
-    for _ in range(8):
-        if center is not None:
-            q = center + rng.normal(size=2)
-            s1 = orient2d(center, a, q)
-            s2 = orient2d(center, b, q)
-        else:
-            q = interior.approx + rng.normal(size=2)
-            # orient2d(o, x, q) = orient2d(x, q, o): a cyclic shift of three rows.
-            s1 = orient2d_mean(a, q, interior.rows)
-            s2 = orient2d_mean(b, q, interior.rows)
-        if np.any((s1 == 0) | (s2 == 0)):
-            continue
-        return int(np.sum((s1 > 0) & (s2 < 0)))
-    return None
-
-
-def check_polygon2d(points: np.ndarray, poly: np.ndarray, interior: Interior | None, *, seed: int = 0) -> Polygon2D:
+def check_polygon2d(
+    points: np.ndarray, poly: np.ndarray, *, seed: int = 0, measure: Measure | None = None
+) -> Polygon2D:
     """Run the 2D manifoldness and convexity checks on one polygon.
 
     Parameters
@@ -154,11 +144,11 @@ def check_polygon2d(points: np.ndarray, poly: np.ndarray, interior: Interior | N
     points : ndarray of shape (n, 2), float64
     poly : ndarray of shape (k,), int64
         Vertex indices in the order given (counter-clockwise expected).
-    interior : Interior or None
-        The centroid of a triangle of the polygon's own vertices; None when
-        they are collinear (no interior point exists).
     seed : int
-        For the random ray of the degree test (the verdict does not depend on it).
+        For the ray of the wrap-number test (the verdict does not depend on it).
+    measure : Measure or None
+        The polygon's signed area (:func:`~.measure.surface_measure`), when
+        the caller has it already; its exact sign decides the orientation.
 
     Returns
     -------
@@ -167,8 +157,7 @@ def check_polygon2d(points: np.ndarray, poly: np.ndarray, interior: Interior | N
     Examples
     --------
     >>> pts = np.array([[0.0, 0], [1, 0], [1, 1], [0, 1], [0.5, 0]])
-    >>> from hullstress.checker.rank import witness_simplex
-    >>> res = check_polygon2d(pts, np.array([0, 4, 1, 2, 3]), Interior.from_simplex(pts[witness_simplex(pts)]))
+    >>> res = check_polygon2d(pts, np.array([0, 4, 1, 2, 3]))
     >>> res.manifold_ok, res.convex_ok, res.turn.tolist()  # 4 is on an edge: allowed
     (True, True, [1, 0, 1, 1, 1])
     """
@@ -197,24 +186,34 @@ def check_polygon2d(points: np.ndarray, poly: np.ndarray, interior: Interior | N
         rc.append(f"{reflex.size} reflex vertices")
         mags["reflex"] = float(np.max(-point_line_distance(prev[reflex], a[reflex], b[reflex])))
     center = None
+    interior = None
     flipped = np.zeros(0, np.int64)
+    degree = None
     real = np.setdiff1d(np.arange(k), degenerate)
-    if interior is None:
-        rc.append("no interior point: the polygon's vertices are collinear")
+    # The vertices' mean first (a strict left turn proves the vertices are not collinear);
+    # the exact centroid of a triangle of the vertices when that fails or the polygon
+    # already failed, so that the edges it is not left of are named.
+    mean = vertex_mean(a)
+    if not rc and (turn > 0).any() and bool(np.all(orient2d(a, b, mean) > 0)):
+        center = mean
     else:
-        left = orient2d_mean(a[real], b[real], interior.rows) > 0
-        flipped = real[~left]
-        if flipped.size:
-            rc.append(f"{flipped.size} edges with the interior point not strictly left")
-            mags["flipped"] = float(np.max(-point_line_distance(a[flipped], b[flipped], interior.approx), initial=0.0))
-        for candidate in (a.mean(axis=0), interior.approx):
-            if real.size and bool(np.all(orient2d(a[real], b[real], candidate) > 0)):
-                center = np.asarray(candidate, dtype=np.float64)
-                break
-        if not rc:
-            degree = _degree(points, poly, interior, center, np.random.default_rng(seed))
-            if degree is not None and degree != 1:
-                rc.append(f"the polygon winds {degree} times around the interior point")
+        interior = surface_interior(points, np.unique(poly))
+        if interior is None:
+            rc.append("no interior point: the polygon's vertices are collinear")
+        else:
+            left = orient2d_mean(a[real], b[real], interior.rows) > 0
+            flipped = real[~left]
+            if flipped.size:
+                rc.append(f"{flipped.size} edges with the interior point not strictly left")
+                mags["flipped"] = float(np.max(-point_line_distance(a[flipped], b[flipped], interior.approx), initial=0.0))
+            for candidate in (mean, interior.approx):
+                if real.size and bool(np.all(orient2d(a[real], b[real], candidate) > 0)):
+                    center = np.asarray(candidate, dtype=np.float64)
+                    break
+    if not rc:
+        degree = wrap_number_2d(points, poly, center, interior, seed)
+        if degree != 1:
+            rc.append(f"the polygon winds {degree} times around the interior point")
 
     # Manifoldness.
     _, first, counts = np.unique(poly, return_index=True, return_counts=True)
@@ -234,7 +233,7 @@ def check_polygon2d(points: np.ndarray, poly: np.ndarray, interior: Interior | N
             rm.append(f"{crossing.size} edges touching or crossing another edge")
             bad_vertices.append(crossing)
     if not rm:
-        sign = orient2d_sum_sign(a, b, a[0])
+        sign = (measure if measure is not None else surface_measure(points, poly)).sign
         if sign <= 0:
             rm.append("clockwise orientation (signed area negative)" if sign < 0 else "zero signed area")
     bad = np.unique(np.concatenate(bad_vertices)).astype(np.int64) if bad_vertices else np.zeros(0, np.int64)
@@ -250,4 +249,5 @@ def check_polygon2d(points: np.ndarray, poly: np.ndarray, interior: Interior | N
         magnitudes=mags,
         reasons_manifold=rm,
         reasons_convex=rc,
+        wraps=degree,
     )

@@ -6,7 +6,9 @@ runs four stages on the rows still undecided:
 
 1. **Floating-point filter** (Shewchuk, "Adaptive precision floating-point
    arithmetic and fast robust geometric predicates", 1997): the determinant in
-   float64 and his proven error bound ``ccwerrboundA`` / ``o3derrboundA``.
+   float64 and his proven error bound ``ccwerrboundA`` / ``o3derrboundA``
+   (in 3D times the product of the rows' L1 norms, an upper bound of his
+   permanent that costs fewer operations).
    Shewchuk's bound assumes no underflow and no overflow.  Overflow turns some
    intermediate into inf or NaN, which makes the comparison false (the row is
    undecided).  Underflow can only lose an absolute ``2**-1075`` per product,
@@ -45,6 +47,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from fractions import Fraction
 
 import numpy as np
 
@@ -80,17 +83,38 @@ def _columns(arr: np.ndarray, dim: int) -> list[np.ndarray]:
     return [arr[:, i] for i in range(dim)]
 
 
+def _rows(points: Sequence, dim: int) -> tuple[list[np.ndarray], int]:
+    """The point arguments as float64 arrays of shape (1, dim) or (k, dim), and k.
+
+    Arguments are broadcast against each other the numpy way; only the row
+    count is settled here (the arithmetic broadcasts by itself), so a call
+    with one fixed point and k rows costs no copies.
+    """
+    arrs = []
+    for i, p in enumerate(points):
+        a = np.asarray(p, dtype=np.float64)
+        if a.ndim == 1:
+            a = a.reshape(1, -1)
+        if a.ndim != 2 or a.shape[1] != dim:
+            raise ValueError(f"argument {i} must have shape (k, {dim}) or ({dim},), got {np.shape(p)}")
+        arrs.append(a)
+    k = max(a.shape[0] for a in arrs)
+    if any(a.shape[0] not in (1, k) for a in arrs):
+        raise ValueError(f"arguments must broadcast: got row counts {[a.shape[0] for a in arrs]}")
+    return arrs, k
+
+
+def _take(arr: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    """``arr[rows]`` for a (k, d) argument, or the one broadcast row repeated."""
+    if arr.shape[0] == 1:
+        return np.broadcast_to(arr, (len(rows), arr.shape[1]))
+    return arr[rows]
+
+
 def _prepare(points: Sequence[np.ndarray], dim: int) -> tuple[list[np.ndarray], int]:
     """Broadcast the point arguments to (k, dim) float64 arrays."""
-    arrs = [np.asarray(p, dtype=np.float64) for p in points]
-    for i, a in enumerate(arrs):
-        if a.shape[-1:] != (dim,):
-            raise ValueError(f"argument {i} must have shape (k, {dim}) or ({dim},), got {a.shape}")
-    shape = np.broadcast_shapes(*(a.shape for a in arrs))
-    if len(shape) == 1:
-        shape = (1, dim)
-    arrs = [np.broadcast_to(a, shape).reshape(-1, dim) for a in arrs]
-    return arrs, arrs[0].shape[0]
+    arrs, k = _rows(points, dim)
+    return [a if a.shape[0] == k else np.broadcast_to(a, (k, dim)) for a in arrs], k
 
 
 def _two_diff_err(a: np.ndarray, b: np.ndarray, x: np.ndarray) -> np.ndarray:
@@ -266,19 +290,144 @@ def _signs_of_objects(values: np.ndarray) -> np.ndarray:
     return np.fromiter(((v > 0) - (v < 0) for v in values), dtype=np.int8, count=len(values))
 
 
-# --------------------------------------------------------------------------- orient2d
+# --------------------------------------------------------------------------- float filters
 
+def filter2(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Shewchuk's float orient2d of (1|k, 2) rows and its error bound ``(det, errbound)``.
 
-def _filter2(ax, ay, bx, by, cx, cy):
-    acx = ax - cx
-    bcx = bx - cx
-    acy = ay - cy
-    bcy = by - cy
+    ``det`` is evaluated exactly as in his ``orient2dfast`` (NaN or inf where
+    an intermediate overflows); ``errbound`` is ``ccwerrboundA`` times the
+    permanent, valid when nothing overflowed or underflowed.
+    """
+    acx, acy = (a - c).T
+    bcx, bcy = (b - c).T
     left = acx * bcy
     right = acy * bcx
-    det = left - right
-    errbound = CCW_ERRBOUND_A * (np.abs(left) + np.abs(right))
-    return det, errbound
+    return left - right, CCW_ERRBOUND_A * (np.abs(left) + np.abs(right))
+
+
+def filter3(
+    a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Shewchuk's float orient3d of (1|k, 3) rows, its error bound and an underflow term.
+
+    ``det = adz (bdx cdy - cdx bdy) + bdz (cdx ady - adx cdy) + cdz (adx bdy - bdx ady)``
+    evaluated in that order, ``errbound = o3derrboundA * permanent``, and
+    ``noise``: an underflowed xy-product loses at most ``2**-1075``, then
+    multiplied by a z difference (see the module docstring).  The rows are
+    taken apart into coordinate columns once (views, no copies).
+    """
+    adx, ady, adz = (a - d).T
+    bdx, bdy, bdz = (b - d).T
+    cdx, cdy, cdz = (c - d).T
+    return _det3(adx, ady, adz, bdx, bdy, bdz, cdx, cdy, cdz)
+
+
+def filter2_columns(diff: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`filter2` from coordinate-major differences, and the full error bound.
+
+    ``diff[c, i]`` is coordinate ``c`` of ``p_i - p_last`` over all rows
+    (shape (2, 2, k), each ``diff[c, i]`` contiguous): the same float
+    operations as :func:`filter2` on contiguous columns.  Call under
+    ``np.errstate(all="ignore")``.
+    """
+    left = diff[0, 0] * diff[1, 1]
+    right = diff[1, 0] * diff[0, 1]
+    return left - right, CCW_ERRBOUND_A * (np.abs(left) + np.abs(right)) * _SLACK + _TINY
+
+
+def filter3_columns(diff: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`filter3` from coordinate-major differences (shape (3, 3, k)), and the full error bound.
+
+    The same float values as :func:`filter3` (the row norms are summed and
+    multiplied in the same order), from a handful of whole-array operations.
+    Call under ``np.errstate(all="ignore")``.
+    """
+    det = _det3_value(*(diff[c, i] for i in range(3) for c in range(3)))
+    absolute = np.abs(diff)
+    norms = absolute.sum(axis=0)  # (|x| + |y|) + |z| of each row, slab by slab
+    noise = _TINY * (1.0 + absolute[2, 0] + absolute[2, 1] + absolute[2, 2])
+    return det, O3D_ERRBOUND_A * ((norms[0] * norms[1]) * norms[2]) * _SLACK + noise
+
+
+def _det3_value(adx, ady, adz, bdx, bdy, bdz, cdx, cdy, cdz):
+    """Shewchuk's orient3d expression, evaluated in his order."""
+    return adz * (bdx * cdy - cdx * bdy) + bdz * (cdx * ady - adx * cdy) + cdz * (adx * bdy - bdx * ady)
+
+
+def _det3(adx, ady, adz, bdx, bdy, bdz, cdx, cdy, cdz):
+    """The float determinant, its error bound and the underflow term.
+
+    The bound is ``o3derrboundA`` times the product of the rows' L1 norms, an
+    upper bound of Shewchuk's permanent (every term of the permanent appears
+    in the product's expansion, all terms being nonnegative): a slightly wider
+    filter for far fewer operations.
+    """
+    det = _det3_value(adx, ady, adz, bdx, bdy, bdz, cdx, cdy, cdz)
+    aadz, abdz, acdz = np.abs(adz), np.abs(bdz), np.abs(cdz)
+    norm_a = np.abs(adx) + np.abs(ady) + aadz
+    norm_b = np.abs(bdx) + np.abs(bdy) + abdz
+    norm_c = np.abs(cdx) + np.abs(cdy) + acdz
+    noise = _TINY * (1.0 + aadz + abdz + acdz)
+    return det, O3D_ERRBOUND_A * ((norm_a * norm_b) * norm_c), noise
+
+
+def _coincident(args: list[np.ndarray]) -> np.ndarray:
+    """Rows where two of the points are equal: the determinant is exactly zero."""
+    out = np.zeros(max(len(a) for a in args), dtype=bool)
+    for i in range(len(args)):
+        for j in range(i + 1, len(args)):
+            out |= (args[i] == args[j]).all(axis=1)
+    return out
+
+
+def _settle(sign: np.ndarray, decided: np.ndarray, args: list[np.ndarray], dim: int, stages) -> np.ndarray:
+    """Fill ``sign`` where the filter did not decide: exact zeros, exactness test, double-double, integers.
+
+    Rows with two equal points are exactly zero (common with duplicated
+    input points, and otherwise settled only by the integer stage).
+    ``stages`` is ``(exact_eval, dd_eval, int_det)``, each taking the undecided
+    rows as coordinate columns; the first two return which rows they settled.
+    """
+    if decided.all():
+        return sign
+    rest = np.flatnonzero(~decided)
+    taken = [_take(arr, rest) for arr in args]
+    zero = _coincident(taken)
+    sign[rest[zero]] = 0
+    rest = rest[~zero]
+    if not rest.size:
+        return sign
+    cols = [col for arr in taken for col in _columns(arr[~zero], dim)]
+    exact_eval, dd_eval, int_det = stages
+    for stage in (exact_eval, dd_eval):
+        value, ok = stage(*cols)
+        sign[rest[ok]] = np.sign(value[ok]).astype(np.int8)
+        rest = rest[~ok]
+        if not rest.size:
+            return sign
+        cols = [col[~ok] for col in cols]
+    sign[rest] = _signs_of_objects(int_det(*_to_ints(cols)))
+    return sign
+
+
+def exact_signs3(det: np.ndarray, bound: np.ndarray, args: list[np.ndarray]) -> np.ndarray:
+    """Exact orient3d signs of rows whose float determinants and bounds are known (:func:`filter3_columns`).
+
+    Call under ``np.errstate(all="ignore")`` (the batched checks hold one for all their steps).
+    """
+    return _settle(np.sign(det).astype(np.int8), np.abs(det) > bound, args, 3, _STAGES3)
+
+
+def exact_signs2(det: np.ndarray, bound: np.ndarray, args: list[np.ndarray]) -> np.ndarray:
+    """Exact orient2d signs of rows whose float determinants and bounds are known (:func:`filter2_columns`).
+
+    Call under ``np.errstate(all="ignore")``.
+    """
+    return _settle(np.sign(det).astype(np.int8), np.abs(det) > bound, args, 2, _STAGES2)
+
+
+# --------------------------------------------------------------------------- orient2d
 
 
 def _exact_eval2(ax, ay, bx, by, cx, cy) -> tuple[np.ndarray, np.ndarray]:
@@ -307,24 +456,11 @@ def _int_det2(ax, ay, bx, by, cx, cy):
     return (ax - cx) * (by - cy) - (ay - cy) * (bx - cx)
 
 
-def _cascade(cols, det, decided, exact_eval, dd_eval, int_det) -> np.ndarray:
-    """Signs of ``det`` where the filter ``decided``; the later stages settle the rest.
+def _int_det2(ax, ay, bx, by, cx, cy):
+    return (ax - cx) * (by - cy) - (ay - cy) * (bx - cx)
 
-    Undecided entries go through the exactness test (``exact_eval``), then
-    double-double arithmetic (``dd_eval``), then integer arithmetic on the
-    mantissas (``int_det``); each stage returns which entries it settled.
-    """
-    sign = np.sign(det).astype(np.int8)
-    rest = np.flatnonzero(~decided)
-    for stage in (exact_eval, dd_eval):
-        if not rest.size:
-            return sign
-        value, ok = stage(*[col[rest] for col in cols])
-        sign[rest[ok]] = np.sign(value[ok]).astype(np.int8)
-        rest = rest[~ok]
-    if rest.size:
-        sign[rest] = _signs_of_objects(int_det(*_to_ints([col[rest] for col in cols])))
-    return sign
+
+_STAGES2 = (_exact_eval2, _dd_eval2, _int_det2)
 
 
 def orient2d(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
@@ -347,11 +483,11 @@ def orient2d(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
     >>> orient2d([0.0, 0.0], [1.0, 3.0], [0.1, 0.3]).tolist()  # the double 0.3 < 3 * (double 0.1)
     [-1]
     """
-    (pa, pb, pc), k = _prepare([a, b, c], 2)
-    cols = _columns(pa, 2) + _columns(pb, 2) + _columns(pc, 2)
+    args, _ = _rows([a, b, c], 2)
     with np.errstate(all="ignore"):
-        det, errbound = _filter2(*cols)
-        return _cascade(cols, det, _decided(det, errbound, _TINY), _exact_eval2, _dd_eval2, _int_det2)
+        det, errbound = filter2(*args)
+        sign = np.sign(det).astype(np.int8)
+        return _settle(sign, _decided(det, errbound, _TINY), args, 2, _STAGES2)
 
 
 def orient2d_mean(a: np.ndarray, b: np.ndarray, cs: Sequence[np.ndarray]) -> np.ndarray:
@@ -379,63 +515,36 @@ def orient2d_mean(a: np.ndarray, b: np.ndarray, cs: Sequence[np.ndarray]) -> np.
 # --------------------------------------------------------------------------- orient3d
 
 
-def _filter3(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
-    adx = ax - dx
-    bdx = bx - dx
-    cdx = cx - dx
-    ady = ay - dy
-    bdy = by - dy
-    cdy = cy - dy
-    adz = az - dz
-    bdz = bz - dz
-    cdz = cz - dz
-    bdxcdy = bdx * cdy
-    cdxbdy = cdx * bdy
-    cdxady = cdx * ady
-    adxcdy = adx * cdy
-    adxbdy = adx * bdy
-    bdxady = bdx * ady
-    det = adz * (bdxcdy - cdxbdy) + bdz * (cdxady - adxcdy) + cdz * (adxbdy - bdxady)
-    aadz, abdz, acdz = np.abs(adz), np.abs(bdz), np.abs(cdz)
-    permanent = (
-        (np.abs(bdxcdy) + np.abs(cdxbdy)) * aadz
-        + (np.abs(cdxady) + np.abs(adxcdy)) * abdz
-        + (np.abs(adxbdy) + np.abs(bdxady)) * acdz
-    )
-    # An underflowed xy-product loses at most 2**-1075, then multiplied by a z difference.
-    noise = _TINY * (1.0 + aadz + abdz + acdz)
-    return det, O3D_ERRBOUND_A * permanent, noise
-
-
 def _exact_eval3(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
-    """Float orient3d with a flag saying every operation was exact."""
-    ok = np.ones(ax.shape, dtype=bool)
+    """Float orient3d with a flag saying the float value is exact.
+
+    Every operation is checked with an error-free transformation, except that
+    a term whose z difference is exactly zero is exactly zero whatever its
+    xy-minor rounded to: points on a plane parallel to two axes (a cube's
+    faces, ``z = 0``) are settled here instead of in integer arithmetic.
+    """
 
     def sub(p, q):
-        nonlocal ok
         r = p - q
-        ok &= _two_diff_err(p, q, r) == 0
-        return r
+        return r, _two_diff_err(p, q, r) == 0
 
-    def mul(p, q):
-        nonlocal ok
-        r = p * q
-        ok &= _two_prod_exact(p, q, r)
-        return r
+    def term(z, z_ok, p, q, r, t, parts_ok):  # z (p q - r t)
+        pq, rt = p * q, r * t
+        minor = pq - rt
+        value = z * minor
+        exact = _two_prod_exact(p, q, pq) & _two_prod_exact(r, t, rt) & (_two_diff_err(pq, rt, minor) == 0)
+        exact &= _two_prod_exact(z, minor, value) & parts_ok
+        return value, z_ok & ((z == 0) | exact)
 
-    def add(p, q):
-        nonlocal ok
-        r = p + q
-        ok &= _two_sum_err(p, q, r) == 0
-        return r
-
-    adx, bdx, cdx = sub(ax, dx), sub(bx, dx), sub(cx, dx)
-    ady, bdy, cdy = sub(ay, dy), sub(by, dy), sub(cy, dy)
-    adz, bdz, cdz = sub(az, dz), sub(bz, dz), sub(cz, dz)
-    t1 = mul(adz, sub(mul(bdx, cdy), mul(cdx, bdy)))
-    t2 = mul(bdz, sub(mul(cdx, ady), mul(adx, cdy)))
-    t3 = mul(cdz, sub(mul(adx, bdy), mul(bdx, ady)))
-    det = add(add(t1, t2), t3)
+    (adx, adx_ok), (bdx, bdx_ok), (cdx, cdx_ok) = sub(ax, dx), sub(bx, dx), sub(cx, dx)
+    (ady, ady_ok), (bdy, bdy_ok), (cdy, cdy_ok) = sub(ay, dy), sub(by, dy), sub(cy, dy)
+    (adz, adz_ok), (bdz, bdz_ok), (cdz, cdz_ok) = sub(az, dz), sub(bz, dz), sub(cz, dz)
+    t1, ok1 = term(adz, adz_ok, bdx, cdy, cdx, bdy, bdx_ok & cdy_ok & cdx_ok & bdy_ok)
+    t2, ok2 = term(bdz, bdz_ok, cdx, ady, adx, cdy, cdx_ok & ady_ok & adx_ok & cdy_ok)
+    t3, ok3 = term(cdz, cdz_ok, adx, bdy, bdx, ady, adx_ok & bdy_ok & bdx_ok & ady_ok)
+    s12 = t1 + t2
+    det = s12 + t3
+    ok = ok1 & ok2 & ok3 & (_two_sum_err(t1, t2, s12) == 0) & (_two_sum_err(s12, t3, det) == 0)
     return det, ok & np.isfinite(det)
 
 
@@ -444,6 +553,9 @@ def _int_det3(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
     ady, bdy, cdy = ay - dy, by - dy, cy - dy
     adz, bdz, cdz = az - dz, bz - dz, cz - dz
     return adz * (bdx * cdy - cdx * bdy) + bdz * (cdx * ady - adx * cdy) + cdz * (adx * bdy - bdx * ady)
+
+
+_STAGES3 = (_exact_eval3, _dd_eval3, _int_det3)
 
 
 def orient3d(a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray) -> np.ndarray:
@@ -466,11 +578,11 @@ def orient3d(a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray) -> np.n
     >>> orient3d(o, x, y, [[0, 0, -1.0], [0.3, 0.3, 0.0], [0, 0, 5e-324]]).tolist()
     [1, 0, -1]
     """
-    (pa, pb, pc, pd), k = _prepare([a, b, c, d], 3)
-    cols = _columns(pa, 3) + _columns(pb, 3) + _columns(pc, 3) + _columns(pd, 3)
+    args, _ = _rows([a, b, c, d], 3)
     with np.errstate(all="ignore"):
-        det, errbound, noise = _filter3(*cols)
-        return _cascade(cols, det, _decided(det, errbound, noise), _exact_eval3, _dd_eval3, _int_det3)
+        det, errbound, noise = filter3(*args)
+        sign = np.sign(det).astype(np.int8)
+        return _settle(sign, _decided(det, errbound, noise), args, 3, _STAGES3)
 
 
 def orient3d_mean(a: np.ndarray, b: np.ndarray, c: np.ndarray, ds: Sequence[np.ndarray]) -> np.ndarray:
@@ -494,31 +606,36 @@ def orient3d_mean(a: np.ndarray, b: np.ndarray, c: np.ndarray, ds: Sequence[np.n
     return _orient_mean(3, [a, b, c], ds)
 
 
+def _filter(dim: int, args: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """The float determinant and a bound on its error (underflow included)."""
+    if dim == 2:
+        det, errbound = filter2(*args)
+        return det, errbound * _SLACK + _TINY
+    det, errbound, noise = filter3(*args)
+    return det, errbound * _SLACK + noise
+
+
 def _orient_mean(dim: int, fixed: list, ds: Sequence[np.ndarray]) -> np.ndarray:
     ds = list(ds)
     if not ds:
         raise ValueError("the mean needs at least one point, got an empty sequence")
-    arrs, k = _prepare(fixed + ds, dim)
-    fixed_cols = [col for arr in arrs[:dim] for col in _columns(arr, dim)]
-    mean_cols = [_columns(arr, dim) for arr in arrs[dim:]]
-    filt = _filter2 if dim == 2 else _filter3
+    arrs, k = _rows(fixed + ds, dim)
+    fixed_arrs, mean_arrs = arrs[:dim], arrs[dim:]
     with np.errstate(all="ignore"):
         total = np.zeros(k)
         bound = np.zeros(k)
         magnitude = np.zeros(k)
-        for cols in mean_cols:
-            out = filt(*fixed_cols, *cols)
-            det, errbound = out[0], out[1]
-            noise = out[2] if dim == 3 else _TINY
+        for d in mean_arrs:
+            det, err = _filter(dim, fixed_arrs + [d])
             total = total + det
-            bound = bound + errbound * _SLACK + noise
+            bound = bound + err
             magnitude = magnitude + np.abs(det)
         # Summing m terms in float adds at most (m - 1) * eps relative to the sum of magnitudes.
         bound = bound + (len(ds) * 2.0 * _EPS) * magnitude
         sign = np.sign(total).astype(np.int8)
         todo = np.flatnonzero(~_decided(total, bound, 0.0))
     if todo.size:
-        all_cols = [col[todo] for col in fixed_cols] + [col[todo] for cols in mean_cols for col in cols]
+        all_cols = [col for arr in arrs for col in _columns(_take(arr, todo), dim)]
         ints = _to_ints(all_cols)
         m = len(ds)
         fixed_ints = [m * v for v in ints[: dim * dim]]
@@ -528,11 +645,16 @@ def _orient_mean(dim: int, fixed: list, ds: Sequence[np.ndarray]) -> np.ndarray:
     return sign
 
 
+#: The three coordinate projections of a 3D point, as column pairs.
+_PROJECTIONS = np.array([[0, 1], [1, 2], [2, 0]])
+
+
 def collinear3d(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
     """Exactly whether three 3D points are collinear (a degenerate triangle).
 
     Three points are collinear iff their projections on the xy, yz and zx
-    planes are all collinear.
+    planes are all collinear.  The three projections go through one float
+    filter; only rows it leaves open in all three are decided exactly.
 
     Parameters
     ----------
@@ -548,13 +670,18 @@ def collinear3d(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
     [True, False]
     """
     (pa, pb, pc), k = _prepare([a, b, c], 3)
-    out = np.ones(k, dtype=bool)
-    for i, j in ((0, 1), (1, 2), (2, 0)):
+    # (3k, 2): the xy projections of every row, then yz, then zx.
+    pa2, pb2, pc2 = (x[:, _PROJECTIONS].transpose(1, 0, 2).reshape(3 * k, 2) for x in (pa, pb, pc))
+    with np.errstate(all="ignore"):
+        det, errbound = filter2(pa2, pb2, pc2)
+        off = _decided(det, errbound, _TINY).reshape(3, k).any(axis=0)
+    out = ~off
+    for p in range(3):
         todo = np.flatnonzero(out)
         if not todo.size:
             break
-        s = orient2d(pa[todo][:, [i, j]], pb[todo][:, [i, j]], pc[todo][:, [i, j]])
-        out[todo[s != 0]] = False
+        rows = p * k + todo
+        out[todo[orient2d(pa2[rows], pb2[rows], pc2[rows]) != 0]] = False
     return out
 
 
@@ -563,43 +690,81 @@ def collinear3d(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
 
 def orient2d_value(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
     """Float value of the 2D orientation determinant (twice the signed area); for magnitudes only."""
-    (pa, pb, pc), _ = _prepare([a, b, c], 2)
+    args, _ = _rows([a, b, c], 2)
     with np.errstate(all="ignore"):
-        return _filter2(*_columns(pa, 2), *_columns(pb, 2), *_columns(pc, 2))[0]
+        return filter2(*args)[0]
 
 
 def orient3d_value(a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray) -> np.ndarray:
     """Float value of the 3D orientation determinant (six times the signed volume); for magnitudes only."""
-    (pa, pb, pc, pd), _ = _prepare([a, b, c, d], 3)
+    args, _ = _rows([a, b, c, d], 3)
     with np.errstate(all="ignore"):
-        return _filter3(*_columns(pa, 3), *_columns(pb, 3), *_columns(pc, 3), *_columns(pd, 3))[0]
+        return filter3(*args)[0]
 
 
-# --------------------------------------------------------------------------- signs of sums
+# --------------------------------------------------------------------------- sums of determinants
 
 
-def _sum_sign(dim: int, points: list) -> int:
+def float_det_sum(dim: int, points: Sequence[np.ndarray]) -> tuple[float, float]:
+    """Float sum of the orientation determinants over rows, and a rigorous bound on its error.
+
+    The sum is ``math.fsum`` of the float determinants (correctly rounded, so
+    it does not depend on the order of the rows).  Returns ``(nan, inf)``
+    when a determinant, its bound or the sum overflows: then only
+    :func:`exact_det_sum` can say.
+    """
+    args, k = _rows(points, dim)
+    if k == 0:
+        return 0.0, 0.0
+    with np.errstate(all="ignore"):
+        det, err = _filter(dim, args)
+    return sum_with_bound(det, err)
+
+
+def sum_with_bound(det: np.ndarray, err: np.ndarray) -> tuple[float, float]:
+    """``math.fsum(det)`` and a bound on its distance to the exact sum of the values ``det`` stand for.
+
+    ``err`` bounds each term's error.  ``(nan, inf)`` when anything is not
+    finite or fsum's partial sums overflow (mixed magnitudes).
+    """
+    try:
+        total = math.fsum(det.tolist())
+        bound = math.fsum(err.tolist())
+    except (OverflowError, ValueError):  # partial sums overflow on mixed magnitudes; inf - inf
+        return math.nan, math.inf
+    if not (math.isfinite(total) and math.isfinite(bound)):
+        return math.nan, math.inf
+    # fsum rounds once (eps |total|); the bound's own rounding is covered by the slack.
+    return total, bound * (1.0 + 2.0**-30) + abs(total) * 2.0 * _EPS
+
+
+def exact_det_sum(dim: int, points: Sequence[np.ndarray]) -> Fraction:
+    """The exact sum over rows of the orientation determinants, as a Fraction (integer arithmetic).
+
+    Examples
+    --------
+    >>> exact_det_sum(2, [np.array([[0.0, 0], [1, 0]]), np.array([[1.0, 0], [1, 1]]), np.array([0.0, 1])])
+    Fraction(2, 1)
+    """
     arrs, k = _prepare(points, dim)
     if k == 0:
-        return 0
+        return Fraction(0)
     cols = [col for arr in arrs for col in _columns(arr, dim)]
-    with np.errstate(all="ignore"):
-        out = (_filter2 if dim == 2 else _filter3)(*cols)
-        det, errbound = out[0], out[1]
-        noise = out[2] if dim == 3 else _TINY
-        bounds = errbound * _SLACK + noise
-        if np.isfinite(det).all() and np.isfinite(bounds).all():
-            total = math.fsum(det.tolist())  # correctly rounded sum of the float terms
-            bound = math.fsum(bounds.tolist())
-            # fsum rounds once (eps * |total|); the bound's own rounding is covered by the slack.
-            if math.isfinite(total) and abs(total) > (bound * (1.0 + 2.0**-30) + abs(total) * 2.0 * _EPS):
-                return 1 if total > 0 else -1
     ints, emin = _to_ints(cols, exponents=True)
     dets = (_int_det2 if dim == 2 else _int_det3)(*ints)
     # Each row's determinant is homogeneous of degree ``dim`` in its scaled values.
-    scale = (emin - emin.min()) * dim
+    low = int(emin.min())
+    scale = (emin - low) * dim
     total = sum(int(v) << int(sh) for v, sh in zip(dets, scale.tolist()))
-    return (total > 0) - (total < 0)
+    return Fraction(total) * Fraction(2) ** (dim * low)
+
+
+def _sum_sign(dim: int, points: list) -> int:
+    total, error = float_det_sum(dim, points)
+    if abs(total) > error:  # false for NaN
+        return 1 if total > 0 else -1
+    exact = exact_det_sum(dim, points)
+    return (exact > 0) - (exact < 0)
 
 
 def orient2d_sum_sign(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> int:

@@ -2,43 +2,74 @@
 
 :func:`qhull_reference` runs ``scipy.spatial.ConvexHull`` once per case with
 default options and, when Qhull raises, retries with the option sets of
-:data:`RETRY_OPTIONS` in order, recording which produced the reference.  It
-then certifies Qhull's own output with the same exact checks as any other
-hull (``qhull_ok``): Qhull is a witness, not the judge.  It never raises:
-every problem (NaN, wrong shape, too few points, every option set failing) is
-recorded in ``error``.
+:data:`RETRY_OPTIONS` in order, recording which produced the reference (and
+every failed attempt).  It then certifies Qhull's own output with the same
+exact checks as any other hull (``qhull_ok``): Qhull is a witness, not the
+judge.  The certificate is kept with the reference, so a hull that is the
+same face set as a certified reference needs no second certification (see
+:func:`hullstress.checker.check`).  It never raises: every problem (NaN,
+wrong shape, too few points, every option set failing) is recorded in
+``error``.
 """
 
 from __future__ import annotations
 
 import math
-
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Any
 
 import numpy as np
 from scipy.spatial import ConvexHull, QhullError
 
 from ..contract import FaceSet
-from ._geometry import Interior, distround, exact_scale
+from ._geometry import Interior, axis_extents, cross3, distround, exact_scale, triangle_array
 from .certify import Certificate, certify
 from .extreme import exact_extreme_2d, first_of_each
+from .measure import canonical_triangles, rotated_to_lowest, surface_area, triangle_keys
 from .predicates import orient3d_mean
 from .rank import witness_simplex
+from .severity import VOLUME_TOLERANCE_MULTIPLE
 
-__all__ = ["QhullReference", "qhull_reference", "certified_extremes", "DEFAULT_OPTIONS", "RETRY_OPTIONS", "REPAIR_OPTIONS"]
+__all__ = [
+    "QhullReference",
+    "qhull_reference",
+    "certified_extremes",
+    "face_set_key",
+    "volume_tolerance",
+    "DEFAULT_OPTIONS",
+    "RETRY_OPTIONS",
+    "REPAIR_OPTIONS",
+]
 
-#: What scipy runs by default: it always adds ``Qt`` (triangulated output).
+#: What scipy runs by default: it always adds ``Qt`` (triangulated output) unless ``QJ`` is given.
 DEFAULT_OPTIONS = "Qt"
-#: Option sets tried in order after the default raised, as passed to scipy
-#: (scipy adds ``Qt``; ``QJ`` joggles the input instead of merging facets).
-#: ``Q12`` allows wide facets (needed e.g. for ``rbox 10000 s Z1 G1e-13``),
-#: ``Qbb Qc Qz`` are Qhull's usual precision helpers, ``QJ`` always succeeds
-#: on non-empty input (even flat or repeated points) at the price of
-#: non-extreme vertices.
-RETRY_OPTIONS = ("Q12", "Qbb Qc Qz Q12", "QJ", "QJ Q12")
+#: Option sets tried in order after the default raised, as passed to scipy.
+#: ``Q12`` allows wide facets and dupridges (needed e.g. for ``rbox 10000 s Z1
+#: G1e-13``); ``QbB`` scales the input to the unit cube first, which recovers
+#: "initial simplex is flat" on offset, mixed-magnitude and nearly flat inputs
+#: that are exactly full-dimensional; ``QJ`` joggles the input and succeeds on
+#: any non-empty input (even flat or repeated points) at the price of
+#: non-extreme vertices; ``QbB QJ`` is the only set that survives magnitudes
+#: spanning 600 decades.  Every set is valid for a convex hull (``Qz``, an
+#: earlier member, is a Delaunay-only option and ended in an option error).
+RETRY_OPTIONS = ("Q12", "QbB", "QbB Q12", "QJ", "QbB QJ")
 #: Option sets for :func:`certified_extremes` (Qhull on rescaled candidate points).
 REPAIR_OPTIONS = ("", "QJ")
+
+
+def options_label(options: str) -> str:
+    """The Qhull options scipy actually runs for ``options`` (it adds ``Qt`` unless ``QJ`` is given).
+
+    Examples
+    --------
+    >>> options_label(""), options_label("QbB Q12"), options_label("QJ")
+    ('Qt', 'Qt QbB Q12', 'QJ')
+    """
+    if "QJ" in options.split():
+        return options
+    return f"{DEFAULT_OPTIONS} {options}".strip()
 
 
 @dataclass(frozen=True, eq=False)
@@ -53,10 +84,15 @@ class QhullReference:
     faces : ndarray of int64 or FaceSet or None
         Qhull's hull in the checker's form: the 2D vertex cycle, or the 3D
         triangles oriented outward by Qhull's own facet normals.
-    volume, area : float or None
-        Qhull's volume and surface area (area and perimeter in 2D).
+    volume : float or None
+        The volume (area in 2D) of Qhull's faces over the input points,
+        computed here like any hull's (:mod:`.measure`): independent of face
+        order, not Qhull's own float figure (which, after ``QbB`` or ``QJ``,
+        describes scaled or joggled points).
     options : str or None
-        The options that produced the reference (``"Qt"``, ``"Qt Q12"``, ``"QJ"``, ...).
+        The options that produced the reference, as Qhull ran them (``"Qt"``,
+        ``"Qt Q12"``, ``"Qt QbB"``, ``"QJ"``, ...), with a note when Qhull ran
+        on rescaled points.
     attempts : tuple of str
         One line per failed option set, ``"<options>: <first line of the error>"``.
     error : str or None
@@ -78,23 +114,60 @@ class QhullReference:
     simplex : ndarray of int64 or None
         A witness simplex of input points (reused by :func:`~hullstress.checker.check`).
     n_points, dim : int
+    points : ndarray or None
+        The input the reference was computed for.
+    scaled : ndarray or None
+        ``points`` rescaled exactly by ``2**exponent`` (:func:`._geometry.exact_scale`).
+    exponent : int
+    certificate : Certificate or None
+        The exact certificate of Qhull's hull (on ``scaled``).
+    face_key : ndarray or None
+        Qhull's faces in canonical form (:func:`face_set_key`).
     """
 
     vertices: np.ndarray | None
     faces: np.ndarray | FaceSet | None
     volume: float | None
-    area: float | None
     options: str | None
     attempts: tuple[str, ...]
     error: str | None
     qhull_ok: bool | None
     qhull_detail: str
     distround: float
-    extreme: np.ndarray | None
+    _extreme: np.ndarray | None
     affine_rank: int | None
     simplex: np.ndarray | None
     n_points: int
     dim: int
+    points: np.ndarray | None = None
+    scaled: np.ndarray | None = None
+    exponent: int = 0
+    certificate: Certificate | None = None
+    face_key: np.ndarray | None = None
+    #: Per-reference memo (e.g. the verdict on Qhull's own faces); not part of the record.
+    memo: dict[str, Any] = field(default_factory=dict, repr=False, compare=False)
+
+    @property
+    def extreme(self) -> np.ndarray | None:
+        """The exact extreme points, one index per distinct coordinate (deduplicated on first use)."""
+        if self._extreme is None or self.qhull_ok is not True:
+            return self._extreme
+        if "extreme" not in self.memo:
+            self.memo["extreme"] = first_of_each(self.scaled, self._extreme)
+        return self.memo["extreme"]
+
+    def tolerance(self) -> Fraction:
+        """The volume agreement tolerance in scaled units (computed on first use, then kept)."""
+        if "tolerance" not in self.memo:
+            self.memo["tolerance"] = volume_tolerance(self.scaled, self.faces, distround(self.scaled))
+        return self.memo["tolerance"]
+
+    def same_faces(self, faces: np.ndarray | FaceSet) -> bool:
+        """Whether ``faces`` (normalised) is exactly Qhull's face set, in any order and rotation."""
+        if self.face_key is None:
+            return False
+        key = face_set_key(faces, self.n_points)
+        return key is not None and key.shape == self.face_key.shape and bool(np.array_equal(key, self.face_key))
 
     def as_dict(self) -> dict:
         """Scalar fields, for tables and logs."""
@@ -108,7 +181,7 @@ class QhullReference:
         }
 
 
-#: Outside this magnitude range Qhull runs on exactly rescaled points (see qhull_reference).
+#: Outside this magnitude range Qhull runs on rescaled points (see qhull_reference).
 _QHULL_SAFE_LOW = 2.0**-400
 _QHULL_SAFE_HIGH = 2.0**400
 
@@ -132,7 +205,7 @@ def _first_line(exc: BaseException) -> str:
 def _run_qhull(points: np.ndarray) -> tuple[ConvexHull | None, str | None, tuple[str, ...]]:
     attempts = []
     for opts in ("",) + RETRY_OPTIONS:
-        label = DEFAULT_OPTIONS if not opts else (opts if "QJ" in opts else f"Qt {opts}")
+        label = options_label(opts)
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")  # Qhull's precision warnings are recorded as outcomes, not emitted
@@ -144,25 +217,80 @@ def _run_qhull(points: np.ndarray) -> tuple[ConvexHull | None, str | None, tuple
     return None, None, tuple(attempts)
 
 
-def _oriented_faces(scaled: np.ndarray, hull: ConvexHull, interior: Interior | None) -> np.ndarray:
+def face_set_key(faces: np.ndarray | FaceSet, n_points: int) -> np.ndarray | None:
+    """A canonical form of a face set: equal keys mean the same faces, orientation included.
+
+    3D triangles: each rotated to start at its lowest index, then sorted (as
+    one integer per triangle when the indices allow).  2D: the vertex cycle
+    rotated to start at its lowest index.  None for polygon faces with more
+    than three vertices (never compared).
+
+    Examples
+    --------
+    >>> a = face_set_key(FaceSet.from_triangles([[2, 0, 1], [3, 1, 0]]), 4)
+    >>> b = face_set_key(FaceSet.from_triangles([[0, 3, 1], [0, 1, 2]]), 4)
+    >>> bool(np.array_equal(a, b))
+    True
+    """
+    if isinstance(faces, FaceSet):
+        if triangle_array(faces) is None:
+            return None
+        n = max(int(n_points), 1)
+        if n < 2**21:  # one int64 per triangle (indices are below n_points)
+            return np.sort(triangle_keys(triangle_array(faces), n))
+        a, b, c = rotated_to_lowest(faces).indices.reshape(-1, 3).T
+        return np.stack([a, b, c], axis=1)[np.lexsort((c, b, a))]
+    poly = np.asarray(faces, dtype=np.int64)
+    return np.roll(poly, -int(np.argmin(poly))) if len(poly) else poly
+
+
+def volume_tolerance(scaled: np.ndarray, faces: np.ndarray | FaceSet, dr: float, area: float | None = None) -> Fraction:
+    """``VOLUME_TOLERANCE_MULTIPLE * dr * area(faces)`` in the units of ``scaled``, as an exact Fraction.
+
+    ``dr`` is DISTround of ``scaled``, ``area`` the faces' surface area if
+    known (:func:`.measure.surface_area`).  Where the float area or product
+    overflows (an input that could not be scaled exactly), they are taken on
+    a copy brought to magnitude ~1 (rounded: only a tolerance is derived
+    from it), so the tolerance is finite at every scale.
+    """
+    if area is None:
+        area = surface_area(scaled, faces)
+    if math.isfinite(area) and math.isfinite(dr) and math.isfinite(dr * area):
+        return Fraction(VOLUME_TOLERANCE_MULTIPLE) * Fraction(dr) * Fraction(area)
+    dim = scaled.shape[1]
+    s = -int(np.frexp(float(np.abs(scaled).max()))[1])
+    with np.errstate(all="ignore"):
+        unit = np.ldexp(scaled, s)
+    area, dr = surface_area(unit, faces), distround(unit)
+    if not (math.isfinite(area) and math.isfinite(dr)):
+        return Fraction(0)
+    return Fraction(VOLUME_TOLERANCE_MULTIPLE) * Fraction(dr) * Fraction(area) / Fraction(2) ** (s * dim)
+
+
+def _oriented_faces(scaled: np.ndarray, hull: ConvexHull, interior) -> np.ndarray:
     """Qhull's triangles, each turned counter-clockwise seen from outside.
 
     scipy's ``simplices`` are not consistently oriented; Qhull's outward facet
     normals (``equations``) say which way each one faces.  Where the float test
-    is too close to call, the exact side of the interior point decides.
+    is too close to call, the exact side of the interior point decides
+    (``interior``: an Interior, None, or a callable giving one, asked only then).
     """
     tri = np.array(hull.simplices, dtype=np.int64)
     a, b, c = scaled[tri[:, 0]], scaled[tri[:, 1]], scaled[tri[:, 2]]
     with np.errstate(all="ignore"):
-        n = np.cross(b - a, c - a)
-        dot = np.einsum("ij,ij->i", n, hull.equations[:, :3])
-        scale = np.linalg.norm(n, axis=1) * np.linalg.norm(hull.equations[:, :3], axis=1)
+        n = cross3(b - a, c - a)
+        eq = hull.equations[:, :3]
+        dot = np.einsum("ij,ij->i", n, eq)
+        # Sure when |dot| > 1e-8 |n| (squared: no square roots); Qhull's normals have unit length.
+        unsure = ~(dot * dot > 1e-16 * np.einsum("ij,ij->i", n, n))
     flip = dot < 0
-    unsure = ~(np.abs(dot) > 1e-8 * scale)
-    if unsure.any() and interior is not None:
-        u = np.flatnonzero(unsure)
-        side = orient3d_mean(a[u], b[u], c[u], interior.rows)
-        flip[u[side < 0]] = True
+    if unsure.any():
+        if callable(interior):
+            interior = interior()
+        if interior is not None:
+            u = np.flatnonzero(unsure)
+            side = orient3d_mean(a[u], b[u], c[u], interior.rows)
+            flip[u[side < 0]] = True
     tri[flip] = tri[flip][:, [0, 2, 1]]
     return tri
 
@@ -171,7 +299,7 @@ def _invalid(reason: str, points: np.ndarray | None = None) -> QhullReference:
     n = dim = 0
     if isinstance(points, np.ndarray) and points.ndim == 2:
         n, dim = points.shape
-    return QhullReference(None, None, None, None, None, (), reason, None, "", 0.0, None, None, None, n, dim)
+    return QhullReference(None, None, None, None, (), reason, None, "", 0.0, None, None, None, n, dim)
 
 
 def _summary(cert: Certificate) -> str:
@@ -214,57 +342,92 @@ def qhull_reference(points: np.ndarray) -> QhullReference:
     n, dim = pts.shape
     if n == 0:
         return _invalid("points is empty", pts)
-    scaled, exponent = exact_scale(pts)
-    simplex = witness_simplex(scaled)
-    rank = len(simplex) - 1
-    interior = Interior.from_simplex(scaled[simplex]) if rank == dim else None
-    dr = distround(pts)
+    extents = axis_extents(pts)
+    top = max(extents)
+    scaled, exponent = exact_scale(pts, top=top)
+    dr = distround(pts, extents=extents)
     # Qhull overflows near the ends of the double range (and was seen to die with
-    # SIGSEGV on a cube's faces at 1e300): there it runs on the exactly rescaled
-    # copy, which has the same hull up to the power-of-two factor, and says so.
-    top = float(np.abs(pts).max())
-    rescale = exponent != 0 and not (_QHULL_SAFE_LOW <= top <= _QHULL_SAFE_HIGH)
-    hull, options, attempts = _run_qhull(scaled if rescale else pts)
-    if rescale and options is not None:
-        options = f"{options} (on input scaled by 2^{exponent})"
+    # SIGSEGV on a cube's faces at 1e300): there it runs on a rescaled copy, which has
+    # the same hull up to the power-of-two factor (exactly, when the rescaling is exact;
+    # otherwise up to the rounding of coordinates below 2**-1022, which the exact
+    # certificate below judges like any other hull), and says so.
+    qhull_input, note = pts, ""
+    if top > 0 and not (_QHULL_SAFE_LOW <= top <= _QHULL_SAFE_HIGH):
+        if exponent != 0:
+            qhull_input, note = scaled, f" (on input scaled by 2^{exponent})"
+        else:
+            k = -int(np.frexp(top)[1])
+            with np.errstate(under="ignore"):
+                qhull_input = np.ldexp(pts, k)
+            note = f" (on input scaled by 2^{k}, rounded)"
+    hull, options, attempts = _run_qhull(qhull_input)
+    if options is not None:
+        options += note
     if hull is None:
+        simplex = witness_simplex(scaled)
         return QhullReference(
-            None, None, None, None, None, attempts, "Qhull failed with every option set: " + attempts[-1],
-            None, "", dr, np.sort(exact_extreme_2d(scaled)) if dim == 2 else None, rank, simplex, n, dim,
+            None, None, None, None, attempts, "Qhull failed with every option set: " + attempts[-1],
+            None, "", dr, np.sort(exact_extreme_2d(scaled)) if dim == 2 else None, len(simplex) - 1, simplex, n, dim,
+            points=pts, scaled=scaled, exponent=exponent,
         )
-    vertices = np.asarray(hull.vertices, dtype=np.int64)
+    # The input's interior point, needed only where Qhull's normals leave a facet's
+    # orientation open or its hull fails: a witness simplex of all points, found once.
+    found: dict[str, Any] = {}
+
+    def interior() -> Interior | None:
+        if "simplex" not in found:
+            found["simplex"] = witness_simplex(scaled)
+        simplex = found["simplex"]
+        return Interior.from_simplex(scaled[simplex]) if len(simplex) == dim + 1 else None
+
     faces: np.ndarray | FaceSet
+    face_key = None
     if dim == 2:
-        faces = vertices.copy()
+        faces = np.asarray(hull.vertices, dtype=np.int64)
     else:
-        faces = FaceSet.from_triangles(_oriented_faces(scaled, hull, interior))
+        # Stored with every triangle starting at its lowest index (the canonical rotation);
+        # the same keys give the face set's canonical form.
+        tri = _oriented_faces(scaled, hull, interior)
+        if n < 2**21:
+            tri, keys = canonical_triangles(tri, n)
+            face_key = np.sort(keys)
+        faces = rotated_to_lowest(FaceSet.from_triangles(tri))
     cert = certify(scaled, faces)
     ok = cert.certified
+    # A certified surface names a simplex of its own vertices (input points): full rank.
+    simplex = cert.witness if cert.witness is not None else found.get("simplex")
+    if simplex is None:
+        simplex = found["simplex"] = witness_simplex(scaled)
     if ok:
-        extreme = first_of_each(scaled, cert.extreme)
+        extreme = cert.extreme  # one index per coordinate on first use (QhullReference.extreme)
     elif dim == 2:
         extreme = np.sort(exact_extreme_2d(scaled))
     else:
         # Qhull's default run on exactly rescaled points repeats the failed run unless
         # rescaling avoided an overflow or underflow: then only the joggle is new.
         retry = REPAIR_OPTIONS if exponent != 0 else tuple(o for o in REPAIR_OPTIONS if o)
-        extreme = certified_extremes(scaled, np.arange(n), interior, options=retry)
+        extreme = certified_extremes(scaled, np.arange(n), interior(), options=retry)
+    vertices = faces.copy() if dim == 2 else cert.hull_vertices
     return QhullReference(
         vertices=vertices,
         faces=faces,
-        volume=_unscale(float(hull.volume), -exponent * dim) if rescale else float(hull.volume),
-        area=_unscale(float(hull.area), -exponent * (dim - 1)) if rescale else float(hull.area),
+        volume=_unscale(cert.volume, -exponent * dim),
         options=options,
         attempts=attempts,
         error=None,
         qhull_ok=ok,
         qhull_detail=_summary(cert),
         distround=dr,
-        extreme=extreme,
-        affine_rank=rank,
+        _extreme=extreme,
+        affine_rank=len(simplex) - 1,
         simplex=simplex,
         n_points=n,
         dim=dim,
+        points=pts,
+        scaled=scaled,
+        exponent=exponent,
+        certificate=cert,
+        face_key=face_key if face_key is not None else face_set_key(faces, n),
     )
 
 

@@ -17,11 +17,13 @@ __all__ = ["affine_rank", "witness_simplex"]
 
 def _far_pair(points: np.ndarray) -> tuple[int, int] | None:
     """Two points with different coordinates, far apart on the widest axis (None if all equal)."""
-    spans = np.ptp(points, axis=0)
+    # Column by column: numpy's reductions along axis 0 of an (n, d) array are slow.
+    lows = [int(np.argmin(points[:, a])) for a in range(points.shape[1])]
+    highs = [int(np.argmax(points[:, a])) for a in range(points.shape[1])]
+    spans = [points[highs[a], a] - points[lows[a], a] for a in range(points.shape[1])]
     axis = int(np.argmax(spans))
-    i, j = int(np.argmin(points[:, axis])), int(np.argmax(points[:, axis]))
     if spans[axis] > 0:
-        return i, j
+        return lows[axis], highs[axis]
     return None  # every coordinate of every axis is constant: one distinct point
 
 

@@ -15,6 +15,7 @@ import math
 
 from ..errors import ContractViolation, InputFileError
 from ..io import read_faces, read_points
+from ..verdict import AGREE, DISAGREE, QHULL_WRONG
 
 __all__ = ["add_parser", "run_check"]
 
@@ -87,7 +88,8 @@ def run_check(args: argparse.Namespace) -> int:
 
 
 def _print_human(verdict, dim: int) -> None:
-    mark = {True: "pass", False: "FAIL", None: "n/a"}
+    mark = {True: "pass", False: "FAIL", None: "n/a", AGREE: "pass", DISAGREE: "FAIL",
+            QHULL_WRONG: "n/a (Qhull's own hull fails the exact checks)"}
     status = "VALID" if verdict.ok else "INVALID"
     print(f"{status}: {verdict.detail}")
     for name in ("containment", "convexity", "manifoldness", "qhull_agreement"):

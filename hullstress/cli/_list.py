@@ -80,7 +80,8 @@ def _checks() -> list[str]:
         "convexity": "non-degenerate (planar, convex) facets; no reflex edge; an interior point below every facet",
         "containment": "no input point strictly outside any facet",
         "manifoldness": "closed, consistently outward-oriented genus-0 surface (2D: simple ccw polygon)",
-        "qhull_agreement": "extreme vertex set and volume agree with Qhull (scipy), itself certified",
+        "qhull_agreement": "extreme vertex set and volume agree with Qhull (scipy) when Qhull's own hull is "
+        "certified; 'qhull-wrong' (never a failure) when it is not",
     }
     return (["checks (all exact):"] + [f"  {c:<16} {text[c]}" for c in CHECKS]
             + ["  lower-dimensional input (a point, a segment, a flat polygon) is judged against its exact hull "

@@ -1,0 +1,280 @@
+"""Certify the common case, a convex closed triangle mesh or polygon, in one batch of exact signs (or decline).
+
+For hulls of tens of points the general checks (:mod:`.topology`,
+:mod:`.convexity3d`, :mod:`.containment`) cost their numpy set-up, not their
+arithmetic: a dozen predicate calls and a few hundred small array steps.
+When the surface is a closed triangle mesh that is in fact a convex hull,
+every condition of those checks can be read off one call of the float
+filter over stacked rows, with the exact stages only for rows it leaves
+open:
+
+* one reflex-test row per edge (the two tests of an edge are the same
+  determinant up to an even permutation, see :func:`.convexity3d.check_convexity3d`);
+* the vertices' mean ``o`` strictly below every face, which also proves
+  every triangle non-degenerate (a collinear triangle has a zero
+  determinant with any fourth point);
+* one wrap-number row per edge, from ``o`` (the reverse half-edge has the
+  opposite sign, its symbolic tie-break included);
+* the points that are not vertices against every face, when there are few;
+* the signed-volume rows of :mod:`.measure` (float values and bounds only).
+
+The combinatorial conditions of :mod:`.topology` then follow from few facts.
+Every directed edge occurs once and its reverse once (``paired``), so the
+faces glue into closed orientable surfaces, one per edge-connected piece.
+Every face has ``o`` strictly below it and no edge is reflex, so the radial
+projection from ``o`` maps each piece onto the whole sphere of directions
+with every face keeping its orientation: each piece is crossed at least
+once by every ray from ``o``, and a wrap count of exactly one leaves one
+piece.  One connected closed orientable surface with V - E + F = 2 is a
+sphere whose vertex links are single cycles (with more link cycles than
+vertices its Euler characteristic would exceed 2), and two faces on the
+same three vertices would pair all their edges with each other, a piece of
+two faces.
+
+In 2D (:func:`certify_convex_polygon`) the rows are the turns, the mean
+strictly left of every edge, the wrap number, containment and the area.
+
+This path only ever concludes "certified", and then builds exactly the
+certificate the general path builds for that surface (same interior point,
+same ray, same corner rule); any failed or uncovered condition returns None
+and the general path runs, which also reports what failed.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..contract import FaceSet
+from ._geometry import triangle_array, vertex_mean
+from .certificate import Certificate, corners3
+from .containment import _SMALL, check_containment2d, check_containment3d
+from .measure import Measure, rotated_to_lowest
+from .predicates import exact_signs2, exact_signs3, filter2_columns, filter3_columns
+from .topology import half_edges
+from .wrap import break_ties_2d, break_ties_3d, ray_point
+
+__all__ = ["certify_closed_mesh", "certify_convex_polygon"]
+
+#: Most (point, face) rows of the batched containment test; beyond, :mod:`.containment`
+#: runs (brute force in one matrix product, or the cone strategy for large inputs).
+_BATCH_CONTAINMENT = 2_000
+_NEXT = np.array([1, 2, 0])
+#: From a half-edge's corner to the corner of the vertex off its edge (c -> c + 2 mod 3).
+_BACK = np.array([2, -1, -1])
+_EMPTY = np.zeros(0, dtype=np.int64)
+_EMPTY.setflags(write=False)
+
+
+#: The offending kinds of the general checks' certificates, all empty here.
+_OFFENDING_KINDS = {
+    2: ("containment", "degenerate_edges", "reflex_vertices", "flipped_edges", "manifold_vertices"),
+    3: ("containment", "degenerate_faces", "reflex_faces", "flipped_faces", "manifold_faces", "manifold_vertices"),
+}
+
+
+def _certified(
+    dim: int, n_faces: int, vertices: np.ndarray, extreme: np.ndarray, boundary: np.ndarray,
+    measure: Measure, witness: np.ndarray,
+) -> Certificate:
+    """The certificate the general checks build for a surface that passes them all."""
+    return Certificate(
+        dim=dim,
+        containment=True,
+        convexity=True,
+        manifoldness=True,
+        n_faces=n_faces,
+        hull_vertices=vertices,
+        extreme=extreme,
+        boundary_nonextreme=boundary,
+        outside=_EMPTY,
+        n_nonconvex_edges=0,
+        n_degenerate_faces=0,
+        offending={key: _EMPTY for key in _OFFENDING_KINDS[dim]},
+        magnitudes={},
+        measure=measure,
+        reasons={"containment": [], "convexity": [], "manifoldness": []},
+        wraps=1,
+        witness=witness,
+    )
+
+
+def _signs_and_measure(coords: np.ndarray, signed: int) -> tuple[np.ndarray, Measure] | None:
+    """One float filter over every row, then the volume (area) from the rows from ``signed`` on
+    and exact signs for the rows before; None when the volume is not positive.
+
+    ``coords[c, p]`` is coordinate c of the p-th point of every row (the last point
+    is the one subtracted), shape (dim, dim + 1, rows).
+    """
+    dim = coords.shape[0]
+    filter_columns, exact_signs = (filter2_columns, exact_signs2) if dim == 2 else (filter3_columns, exact_signs3)
+    with np.errstate(all="ignore"):  # overflow means an undecided row, settled exactly
+        det, bound = filter_columns(coords[:, :dim] - coords[:, dim:])
+        measure = Measure(dim, [coords[:, j, signed:].T for j in range(dim + 1)], (det[signed:], bound[signed:]))
+        if measure.sign <= 0:
+            return None
+        return exact_signs(det[:signed], bound[:signed], [coords[:, j, :signed].T for j in range(dim + 1)]), measure
+
+
+def certify_closed_mesh(points: np.ndarray, faces: FaceSet, *, seed: int = 0) -> Certificate | None:
+    """The certificate of a closed convex triangle mesh, or None when this path cannot give it.
+
+    Parameters
+    ----------
+    points : ndarray of shape (n, 3), float64
+    faces : FaceSet
+        All faces triangles.
+    seed : int
+        The wrap-number ray, as in the general path.
+
+    Returns
+    -------
+    Certificate or None
+    """
+    n = len(points)
+    tri = triangle_array(faces)
+    m = len(tri)
+    if m < 4:  # (a triangle repeating a vertex fails the mean-below test below: it is flat)
+        return None
+    # Half-edge j runs src[j] -> dst[j] in triangle j // 3; its twin runs back.
+    src = tri.ravel()
+    dst = tri[:, _NEXT].ravel()
+    key = src * n + dst
+    order = np.argsort(key)
+    ordered = key[order]
+    if np.any(ordered[1:] == ordered[:-1]):
+        return None
+    reverse = dst * n + src
+    pos = np.minimum(np.searchsorted(ordered, reverse), len(key) - 1)
+    if np.any(ordered[pos] != reverse):
+        return None
+    half = (src < dst).nonzero()[0]  # one half-edge per edge
+    twin = order[pos[half]]
+    is_vertex = np.zeros(n, dtype=bool)
+    is_vertex[src] = True
+    vertices = is_vertex.nonzero()[0]
+    e = len(half)
+    if len(vertices) - e + m != 2:
+        return None
+
+    corners = points[vertices]
+    mean = vertex_mean(corners)
+    q = ray_point(mean, float(max(corners.max(), -corners.min())), seed)
+    candidates = (~is_vertex).nonzero()[0]
+    batch_containment = len(candidates) * m <= _BATCH_CONTAINMENT
+    k = len(candidates) if batch_containment else 0
+    # Rows (as point indices; the mean and the ray point are filled in after the
+    # gather): reflex test (e), mean below every face (m), wrap number (e),
+    # containment (k m), volume (m).
+    signed = 2 * e + m + k * m
+    idx = np.zeros((4, signed + m), dtype=np.int64)
+    idx[:3, :e] = tri[half // 3].T
+    idx[3, :e] = src[twin + _BACK[twin % 3]]  # the vertex of the twin's triangle off the edge
+    idx[:3, e : e + m] = tri.T
+    idx[1, e + m : 2 * e + m] = src[half]
+    idx[2, e + m : 2 * e + m] = dst[half]
+    if k:
+        idx[:3, 2 * e + m : signed].reshape(3, k, m)[:] = tri.T[:, None, :]  # every face, for each candidate
+        idx[3, 2 * e + m : signed] = np.repeat(candidates, m)
+    lowest = rotated_to_lowest(faces).indices.reshape(-1, 3)
+    idx[0, signed:], idx[1, signed:], idx[2, signed:], idx[3, signed:] = vertices[0], lowest[:, 1], lowest[:, 0], lowest[:, 2]
+    coords = points.T[:, idx]  # (3, 4, rows): coordinate c of the rows' p-th point, contiguous
+    coords[:, 3, e : e + m] = mean[:, None]
+    coords[:, 0, e + m : 2 * e + m] = mean[:, None]
+    coords[:, 3, e + m : 2 * e + m] = q[:, None]
+    batch = _signs_and_measure(coords, signed)
+    if batch is None:
+        return None
+    sign, measure = batch
+    reflex, below = sign[:e], sign[e : e + m]
+    if below.min() <= 0 or reflex.min() < 0 or reflex.max() <= 0 or (k and sign[2 * e + m :].min() < 0):
+        return None
+    s = -sign[e + m : 2 * e + m]  # > 0: q strictly on the inner side of the plane (mean, u, v)
+    break_ties_3d(s, src[half], dst[half], mean, None, points)
+    inner = np.empty(3 * m, dtype=bool)
+    inner[half] = s > 0
+    inner[twin] = s < 0
+    if np.count_nonzero(inner[0::3] & inner[1::3] & inner[2::3]) != 1:
+        return None
+    if not batch_containment:
+        he = half_edges(faces, n) if n * m > _SMALL else None
+        if not check_containment3d(points, faces, tri, certified=True, center=mean, he=he).ok:
+            return None
+    sharp_rows = (reflex > 0).nonzero()[0]
+    sharp = idx[1:3, e + m + sharp_rows].T  # the edge's end points, from the wrap-number rows
+    first_sharp = int(sharp_rows[0])  # a face and a vertex strictly below it: a witness simplex
+    extreme = corners3(points, vertices, sharp)
+    is_vertex[extreme] = False  # now: vertices that are not corners
+    return _certified(3, m, vertices, extreme, vertices[is_vertex[vertices]], measure, idx[:, first_sharp].copy())
+
+
+def certify_convex_polygon(points: np.ndarray, poly: np.ndarray, *, seed: int = 0) -> Certificate | None:
+    """The certificate of a convex counter-clockwise polygon, or None when this path cannot give it.
+
+    The conditions of :func:`.polygon2d.check_polygon2d` and
+    :func:`.containment.check_containment2d` for a polygon that passes them:
+    at least three vertices, no repeated index or coordinate, every turn left
+    or straight and one strictly left, the vertices' mean strictly left of
+    every edge (no edge of zero length then), winding once around it,
+    positive area, no point strictly right of an edge.
+
+    Parameters
+    ----------
+    points : ndarray of shape (n, 2), float64
+    poly : ndarray of shape (k,), int64
+    seed : int
+        The wrap-number ray, as in the general path.
+
+    Returns
+    -------
+    Certificate or None
+    """
+    n, k = len(points), len(poly)
+    if k < 3:
+        return None
+    is_vertex = np.zeros(n, dtype=bool)
+    is_vertex[poly] = True
+    vertices = is_vertex.nonzero()[0]
+    if len(vertices) != k:
+        return None
+    a = points[poly]
+    srt = a[np.lexsort(a.T[::-1])]
+    if np.any(np.all(srt[1:] == srt[:-1], axis=1)):
+        return None
+    mean = vertex_mean(a)
+    q = ray_point(mean, float(max(a.max(), -a.min())), seed)
+    candidates = (~is_vertex).nonzero()[0]
+    c = len(candidates) if len(candidates) * k <= _BATCH_CONTAINMENT else 0
+    nxt, prev = np.roll(poly, -1), np.roll(poly, 1)
+    # Rows (the mean and the ray point filled in after the gather): turns (k), mean
+    # left of every edge (k), wrap number (k), containment (c k), area (k).
+    signed = 3 * k + c * k
+    idx = np.zeros((3, signed + k), dtype=np.int64)
+    idx[0, :k], idx[1, :k], idx[2, :k] = prev, poly, nxt
+    idx[0, k : 2 * k], idx[1, k : 2 * k] = poly, nxt
+    idx[1, 2 * k : 3 * k] = poly
+    if c:
+        idx[0, 3 * k : signed].reshape(c, k)[:] = poly
+        idx[1, 3 * k : signed].reshape(c, k)[:] = nxt
+        idx[2, 3 * k : signed] = np.repeat(candidates, k)
+    idx[0, signed:], idx[1, signed:], idx[2, signed:] = poly.min(), poly, nxt
+    coords = points.T[:, idx]  # (2, 3, rows)
+    coords[:, 2, k : 2 * k] = mean[:, None]
+    coords[:, 0, 2 * k : 3 * k] = mean[:, None]
+    coords[:, 2, 2 * k : 3 * k] = q[:, None]
+    batch = _signs_and_measure(coords, signed)
+    if batch is None:
+        return None
+    sign, measure = batch
+    turn, left = sign[:k], sign[k : 2 * k]
+    if turn.min() < 0 or turn.max() <= 0 or left.min() <= 0 or (c and sign[3 * k :].min() < 0):
+        return None
+    s = sign[2 * k : 3 * k].copy()
+    break_ties_2d(s, a, mean, None)
+    if np.count_nonzero((s > 0) & (np.roll(s, -1) < 0)) != 1:
+        return None
+    if not c and len(candidates):
+        cont = check_containment2d(points, poly, certified=True, center=mean)
+        if not cont.ok:
+            return None
+    strict = int(np.argmax(turn > 0))
+    return _certified(2, k, vertices, np.unique(poly[turn > 0]), np.unique(poly[turn == 0]), measure, idx[:, strict].copy())
