@@ -147,7 +147,7 @@ def get_profile(name: str) -> Profile:
     Examples
     --------
     >>> get_profile("quick").sizes[3]
-    (24,)
+    (8, 24, 100)
     >>> get_profile("weekly")
     Traceback (most recent call last):
     ...

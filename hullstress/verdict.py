@@ -109,7 +109,10 @@ class Verdict:
         Faces that are degenerate, non-planar or non-convex.
     volume : float
         Volume (area in 2D) of the checked hull: a function of its face set
-        only (never of face order), exact where the float sum is not.
+        only (never of face order), exact where the float sum is not.  It is
+        the signed volume of the cones from the surface's lowest-index vertex
+        to its faces: on a closed surface any apex gives the same value; on an
+        open one this choice makes it well defined.
     qhull_volume : float or None
         The same for Qhull's faces.
     qhull_options : str or None

@@ -343,7 +343,9 @@ def verdict3(points, faces, reference=None) -> ExactVerdict:
     if len({root(i) for i in range(len(faces))}) != 1:
         manifold = False
         notes.append("more than one piece")
-    o = pts[faces[0][0]] if faces else (0, 0, 0)
+    # About the surface's lowest-index vertex, as DESIGN's checker defines it: on a closed surface
+    # any point gives the same volume; on an open one this makes the volume a function of the face set.
+    o = pts[min(min(f) for f in faces)] if faces else (0, 0, 0)
     vol6 = sum(dot(sub(pts[f[0]], o), cross(sub(pts[f[i]], o), sub(pts[f[i + 1]], o)))
                for f in faces for i in range(1, len(f) - 1))
     if manifold and vol6 <= 0:
