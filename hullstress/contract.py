@@ -16,7 +16,7 @@ import numpy as np
 
 from .errors import ContractViolation
 
-__all__ = ["FaceSet", "normalize_output", "normalize_polygon", "normalize_faces"]
+__all__ = ["FaceSet", "normalize_output", "normalize_polygon", "normalize_faces", "reverse_orientation"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -226,3 +226,23 @@ def normalize_output(output: Any, n_points: int, dim: int) -> np.ndarray | FaceS
     if dim == 2:
         return normalize_polygon(output, n_points)
     return normalize_faces(output, n_points)
+
+
+def reverse_orientation(faces: np.ndarray | FaceSet) -> np.ndarray | FaceSet:
+    """Reverse every face (3D) or the polygon (2D): a clockwise output made counter-clockwise.
+
+    Examples
+    --------
+    >>> reverse_orientation(np.array([0, 1, 2])).tolist()
+    [2, 1, 0]
+    >>> reverse_orientation(FaceSet.from_polygons([[0, 1, 2], [0, 2, 3, 4]])).to_python()
+    [[2, 1, 0], [4, 3, 2, 0]]
+    """
+    if not isinstance(faces, FaceSet):
+        return np.asarray(faces)[::-1].copy()
+    sizes = faces.sizes
+    face_of = np.repeat(np.arange(faces.n_faces, dtype=np.int64), sizes)
+    position = np.arange(len(faces.indices), dtype=np.int64)
+    # Within each face, position p maps to (start + end - 1 - p).
+    mirrored = faces.offsets[face_of] + faces.offsets[face_of + 1] - 1 - position
+    return FaceSet(faces.indices[mirrored], faces.offsets.copy())

@@ -25,8 +25,8 @@ import numpy as np
 
 from .case import Case
 from .config import NO_EPS, AlgorithmConfig
-from .contract import FaceSet, normalize_output
-from .errors import ContractViolation, one_line
+from .contract import FaceSet, normalize_output, reverse_orientation
+from .errors import CodeCrashed, ContractViolation, one_line
 from .results import ResultRow, make_row
 from .tolerance import tolerance
 
@@ -62,8 +62,10 @@ class CallOutcome:
 
     Attributes
     ----------
-    kind : {"ok", "raised", "contract"}
-        Returned a valid output, raised, or returned output breaking the contract.
+    kind : {"ok", "raised", "contract", "crash"}
+        Returned a valid output, raised, returned output breaking the contract
+        (or raised ContractViolation: a program's unreadable output), or died
+        (an executable killed by a signal).
     faces : ndarray or FaceSet or None
         The normalised output in the case's original indices (``kind == "ok"``).
     error : str
@@ -95,15 +97,15 @@ def input_problem(points: np.ndarray, dim: int) -> str | None:
     return None
 
 
-def case_facts(case: Case, *, qhull: bool = True) -> CaseFacts:
-    """Compute a case's validity, exact affine rank and (optionally) Qhull reference."""
+def case_facts(case: Case, *, qhull: bool = True, qhull_options: str | None = None) -> CaseFacts:
+    """Compute a case's validity, exact affine rank and (optionally) Qhull reference (``qhull_options`` first)."""
     from .checker import affine_rank, qhull_reference
 
     problem = input_problem(case.points, case.dim)
     if problem is not None:
         return CaseFacts(invalid_input=problem, affine_rank=None, degenerate=True, reference=None)
     rank = int(affine_rank(case.points))
-    reference = qhull_reference(case.points) if qhull else None
+    reference = qhull_reference(case.points, options=qhull_options) if qhull else None
     return CaseFacts(invalid_input=None, affine_rank=rank, degenerate=rank < case.dim, reference=reference)
 
 
@@ -135,7 +137,11 @@ def call_algorithm(case: Case, config: AlgorithmConfig) -> CallOutcome:
             # The code under test's own warnings (overflow in its cross products,
             # say) are not the harness's output; what it returns is judged instead.
             warnings.simplefilter("ignore")
-            raw = spec.func(points, **kwargs)
+            raw = spec.func(np.array(points) if spec.writable else points, **kwargs)
+    except ContractViolation as exc:
+        return CallOutcome("contract", error=str(exc), seconds=time.perf_counter() - start, eps_value=eps_value)
+    except CodeCrashed as exc:
+        return CallOutcome("crash", error=str(exc), seconds=time.perf_counter() - start, eps_value=eps_value)
     except (Exception, RecursionError) as exc:  # the code under test may raise anything
         return CallOutcome("raised", error=one_line(exc), seconds=time.perf_counter() - start, eps_value=eps_value)
     seconds = time.perf_counter() - start
@@ -143,6 +149,8 @@ def call_algorithm(case: Case, config: AlgorithmConfig) -> CallOutcome:
         faces = normalize_output(raw, len(points), case.dim)
     except ContractViolation as exc:
         return CallOutcome("contract", error=str(exc), seconds=seconds, eps_value=eps_value)
+    if spec.clockwise:
+        faces = reverse_orientation(faces)
     if index_map is not None:
         index_map = np.asarray(index_map, dtype=np.int64)
         if isinstance(faces, FaceSet):
@@ -172,6 +180,8 @@ def judge(case: Case, config: AlgorithmConfig, outcome: CallOutcome, facts: Case
         return make_row(case, config, status=status, reason=outcome.error, **common)
     if outcome.kind == "contract":
         return make_row(case, config, status="fail", reason=f"output contract: {outcome.error}", **common)
+    if outcome.kind == "crash":
+        return make_row(case, config, status="crash", reason=outcome.error, **common)
     assert outcome.faces is not None
     if facts.invalid_input:
         if facts.invalid_input == "no points" and _is_empty(outcome.faces):
@@ -199,8 +209,9 @@ def judge(case: Case, config: AlgorithmConfig, outcome: CallOutcome, facts: Case
     )
 
 
-def evaluate(case: Case, config: AlgorithmConfig, *, facts: CaseFacts | None = None, qhull: bool = True) -> ResultRow:
+def evaluate(case: Case, config: AlgorithmConfig, *, facts: CaseFacts | None = None, qhull: bool = True,
+             qhull_options: str | None = None) -> ResultRow:
     """Run and judge one config on one case in this process (no isolation, no timeout)."""
     if facts is None:
-        facts = case_facts(case, qhull=qhull)
+        facts = case_facts(case, qhull=qhull, qhull_options=qhull_options)
     return judge(case, config, call_algorithm(case, config), facts)

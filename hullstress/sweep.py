@@ -19,11 +19,14 @@ import pandas as pd
 from ._registry import GeneratorSpec, algorithms, get_algorithm, get_generator, generators
 from .case import Case, canonical_params
 from .config import AlgorithmConfig, expand_configs
-from .options import DEFAULTS, Profile, get_profile
+from .errors import UsageError
+from .options import DEFAULTS, Profile, case_memory_bytes, get_profile, memory_ceiling_bytes
+from .rbox import RBOX_SEED_MODULUS, is_rbox_spec, parse_rbox_spec, rbox_count, rbox_points
 from .results import ResultRow, to_frame
 from .runner import ExecutionStats, RunnerOptions, Task, execute
 
-__all__ = ["SweepOptions", "SweepResult", "build_cases", "build_tasks", "case_seed", "run_sweep", "sort_table"]
+__all__ = ["SweepOptions", "SweepResult", "build_cases", "build_tasks", "case_seed", "check_sizes", "run_sweep",
+           "sort_table"]
 
 
 @dataclass(frozen=True)
@@ -46,6 +49,8 @@ class SweepOptions:
     scheduler: str | None = None
     #: Address-space limit per isolated worker in MiB (0 or None: none).
     memory_limit_mb: float | None = DEFAULTS.memory_limit_mb
+    #: Qhull options tried first for the reference hull (None: scipy's default, then the fallbacks).
+    qhull_options: str | None = None
 
     @property
     def profile_spec(self) -> Profile:
@@ -55,7 +60,8 @@ class SweepOptions:
         workers = self.workers if self.workers is not None else (os.cpu_count() or 1)
         timeout = self.timeout if self.timeout is not None else self.profile_spec.timeout
         return RunnerOptions(workers=workers, timeout=timeout, time_budget=self.time_budget, qhull=self.qhull,
-                             scheduler=self.scheduler, memory_limit_mb=self.memory_limit_mb)
+                             scheduler=self.scheduler, memory_limit_mb=self.memory_limit_mb,
+                             qhull_options=self.qhull_options)
 
 
 @dataclass
@@ -81,7 +87,7 @@ def case_seed(base_seed: int, family: str, params_json: str, dim: int, size: int
 
 def _selected_generators(options: SweepOptions) -> list[GeneratorSpec]:
     if options.generators:
-        return [get_generator(name) for name in dict.fromkeys(options.generators)]
+        return [get_generator(name) for name in dict.fromkeys(options.generators) if not is_rbox_spec(name)]
     if options.points_files:
         return []  # files given and no --generator: only the files run
     return generators()
@@ -91,6 +97,45 @@ def _sizes_for(options: SweepOptions, dim: int) -> tuple[int, ...]:
     if options.sizes is not None:
         return options.sizes
     return options.profile_spec.sizes[dim]
+
+
+def check_sizes(options: SweepOptions, dims: Sequence[int] = (2, 3)) -> None:
+    """Refuse, before anything is allocated, sizes whose cases would not fit in memory.
+
+    Raises
+    ------
+    UsageError
+        Naming the size, the estimate and the limit it exceeds.
+    """
+    ceiling, what = memory_ceiling_bytes(options.memory_limit_mb)
+    if ceiling is None:
+        return
+    wanted = [(n, d, f"--sizes {n}") for d in dims for n in _sizes_for(options, d)]
+    for spec in options.generators:
+        if is_rbox_spec(spec):
+            n = rbox_count(parse_rbox_spec(spec))
+            if n is not None:
+                wanted.append((n, 3, f"--generator {spec!r}"))
+    for n, dim, where in wanted:
+        need = case_memory_bytes(n, dim)
+        if need > ceiling:
+            raise UsageError(
+                f"{where}: a case of {n} {dim}D points needs about {need / 2**30:.3g} GiB while it is generated, "
+                f"hulled and checked ({DEFAULTS.case_bytes_per_coordinate} bytes per coordinate), more than "
+                f"{what}; use smaller sizes or a larger --memory-limit")
+
+
+def _rbox_cases(options: SweepOptions) -> list[Case]:
+    """One case per replicate of every ``rbox:ARGS`` generator, seeded from the base seed."""
+    cases = []
+    for spec in dict.fromkeys(g for g in options.generators if is_rbox_spec(g)):
+        args = parse_rbox_spec(spec)
+        for rep in range(options.profile_spec.replicates):
+            seed = case_seed(options.seed, "rbox", args, 0, None, rep) % RBOX_SEED_MODULUS
+            pts = rbox_points(args, seed)
+            cases.append(Case(points=pts, dim=pts.shape[1], family="rbox", params={"args": args}, seed=seed,
+                              size=len(pts), source=f"rbox {args} t{seed}"))
+    return cases
 
 
 def build_cases(options: SweepOptions, dims: Sequence[int] = (2, 3)) -> tuple[list[Case], list[str]]:
@@ -129,6 +174,7 @@ def build_cases(options: SweepOptions, dims: Sequence[int] = (2, 3)) -> tuple[li
                             Case(points=pts, dim=dim, family=spec.name, params=params,
                                  seed=seed, size=size, source="generator")
                         )
+    cases.extend(_rbox_cases(options))
     for path in dict.fromkeys(options.points_files):
         pts = read_points(path)
         cases.append(Case.from_points(pts, family="file", params={"file": os.path.basename(path)}, source=str(path)))
@@ -145,6 +191,7 @@ def build_tasks(options: SweepOptions) -> tuple[list[Task], list[Case], dict[int
         specs = algorithms()
     configs = {d: expand_configs([s for s in specs if s.dim == d], sphere=options.sphere, eps=options.eps) for d in (2, 3)}
     dims = [d for d in (2, 3) if configs[d]]
+    check_sizes(options, dims)
     cases, skipped = build_cases(options, dims=dims)
     for case in cases:
         if case.dim not in dims:

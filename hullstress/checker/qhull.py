@@ -129,9 +129,9 @@ def _first_line(exc: BaseException) -> str:
     return type(exc).__name__
 
 
-def _run_qhull(points: np.ndarray) -> tuple[ConvexHull | None, str | None, tuple[str, ...]]:
+def _run_qhull(points: np.ndarray, first: str | None = None) -> tuple[ConvexHull | None, str | None, tuple[str, ...]]:
     attempts = []
-    for opts in ("",) + RETRY_OPTIONS:
+    for opts in ((first,) if first else ("",)) + RETRY_OPTIONS:
         label = DEFAULT_OPTIONS if not opts else (opts if "QJ" in opts else f"Qt {opts}")
         try:
             with warnings.catch_warnings():
@@ -179,12 +179,15 @@ def _summary(cert: Certificate) -> str:
     return " | ".join(parts)
 
 
-def qhull_reference(points: np.ndarray) -> QhullReference:
+def qhull_reference(points: np.ndarray, *, options: str | None = None) -> QhullReference:
     """Compute Qhull's hull of ``points`` once, with its options, health and exact extremes.
 
     Parameters
     ----------
     points : array_like of shape (n, 2) or (n, 3)
+    options : str, optional
+        Qhull options tried first instead of scipy's default (``--qhull-options``);
+        the usual fallbacks follow if Qhull raises.
 
     Returns
     -------
@@ -224,7 +227,7 @@ def qhull_reference(points: np.ndarray) -> QhullReference:
     # copy, which has the same hull up to the power-of-two factor, and says so.
     top = float(np.abs(pts).max())
     rescale = exponent != 0 and not (_QHULL_SAFE_LOW <= top <= _QHULL_SAFE_HIGH)
-    hull, options, attempts = _run_qhull(scaled if rescale else pts)
+    hull, options, attempts = _run_qhull(scaled if rescale else pts, options)
     if rescale and options is not None:
         options = f"{options} (on input scaled by 2^{exponent})"
     if hull is None:

@@ -23,10 +23,13 @@ from typing import Any
 from ..config import AlgorithmConfig
 from ..verdict import CHECKS
 
-__all__ = ["Signature", "failed_check", "signature_of", "FAILED_STATUSES"]
+__all__ = ["Signature", "failed_check", "signature_of", "FAILED_STATUSES", "FAILED_CHECKS"]
 
 #: Statuses that are failures of the code under test (``rejected`` is acceptable behaviour).
 FAILED_STATUSES = ("fail", "error", "timeout", "crash")
+
+#: Every value the "failed check" part of a signature can take (``shrink --check`` accepts these).
+FAILED_CHECKS = ("contract",) + tuple(CHECKS) + ("invalid-input", "error", "timeout", "crash")
 
 _CONTRACT_PREFIX = "output contract:"
 _UNSAFE = re.compile(r"[^A-Za-z0-9._-]+")
