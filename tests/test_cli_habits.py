@@ -3,7 +3,6 @@ writable arrays, clockwise conventions, and assertion helpers that hide their ow
 
 from __future__ import annotations
 
-import json
 import subprocess
 import sys
 import textwrap
