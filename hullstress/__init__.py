@@ -24,6 +24,7 @@ from ._registry import (
     get_algorithm,
     get_generator,
     register_algorithm,
+    register_executable,
     register_generator,
 )
 from .errors import (
@@ -31,6 +32,7 @@ from .errors import (
     ContractViolation,
     CorpusError,
     DuplicateNameError,
+    EnvironmentFailure,
     HullstressError,
     InputFileError,
     UnknownNameError,
@@ -90,6 +92,7 @@ __all__ = [
     "ContractViolation",
     "CorpusError",
     "DuplicateNameError",
+    "EnvironmentFailure",
     "EpsPolicy",
     "FaceSet",
     "GeneratorSpec",
@@ -110,6 +113,7 @@ __all__ = [
     "normalize_output",
     "qhull_reference",
     "register_algorithm",
+    "register_executable",
     "register_generator",
     "to_frame",
     "tolerance",

@@ -1,7 +1,8 @@
 """Registries of hull algorithms and point-set generators.
 
 Both are filled by decorators (:func:`register_algorithm`,
-:func:`register_generator`).  The built-in entries live in
+:func:`register_generator`); programs in any language register with
+:func:`register_executable`.  The built-in entries live in
 ``hullstress.algorithms``, ``hullstress.adapters`` and the top-level
 ``generators`` package; they are imported lazily, the first time a registry is
 read, so that ``import hullstress`` stays cheap and a plug-in can register
@@ -12,8 +13,8 @@ from __future__ import annotations
 
 import inspect
 import threading
-from collections.abc import Callable, Iterator, Mapping
-from dataclasses import dataclass
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from dataclasses import dataclass, replace
 from types import MappingProxyType
 from typing import Any, Generic, TypeVar
 
@@ -27,6 +28,9 @@ __all__ = [
     "GENERATORS",
     "register_algorithm",
     "register_generator",
+    "register_executable",
+    "set_clockwise",
+    "ORIGINS",
     "get_algorithm",
     "get_generator",
     "algorithms",
@@ -38,6 +42,10 @@ __all__ = [
 def _summary(func: Callable[..., Any]) -> str:
     doc = inspect.getdoc(func) or ""
     return doc.strip().splitlines()[0] if doc.strip() else ""
+
+
+#: Where a registered algorithm comes from (the ``origin`` column).
+ORIGINS = ("in-house", "adapter", "plugin", "executable")
 
 
 def _origin(func: Callable[..., Any]) -> str:
@@ -64,9 +72,15 @@ class AlgorithmSpec:
     takes_eps : bool
         Whether ``func`` accepts an ``eps`` keyword; the eps variants apply only then.
     origin : str
-        ``in-house``, ``adapter`` or ``plugin``.
+        One of :data:`ORIGINS`: ``in-house``, ``adapter``, ``plugin`` or ``executable``.
     summary : str
-        First line of the function's docstring.
+        First line of the function's docstring (an executable's command).
+    writable : bool
+        ``func`` receives a writable copy of the points instead of the
+        read-only array (for libraries that write into their input).
+    clockwise : bool
+        ``func`` returns faces clockwise seen from outside (2D: a clockwise
+        polygon); each is reversed before checking.
     """
 
     name: str
@@ -75,6 +89,8 @@ class AlgorithmSpec:
     takes_eps: bool
     origin: str
     summary: str
+    writable: bool = False
+    clockwise: bool = False
 
     @property
     def module(self) -> str:
@@ -134,6 +150,12 @@ class Registry(Generic[T]):
             self._items[spec.name] = spec
         return spec
 
+    def replace(self, spec: T) -> T:
+        """Register ``spec`` over whatever holds its name (a changed option of the same entry)."""
+        with self._lock:
+            self._items[spec.name] = spec
+        return spec
+
     def remove(self, name: str) -> None:
         """Forget ``name`` (used by tests and by plug-ins that re-register)."""
         with self._lock:
@@ -170,6 +192,9 @@ class Registry(Generic[T]):
 
 
 def _qualname(func: Callable[..., Any]) -> str:
+    label = getattr(func, "registry_label", None)  # an executable: its command, not its class
+    if isinstance(label, str):
+        return label
     return f"{getattr(func, '__module__', '?')}.{getattr(func, '__qualname__', func)!s}"
 
 
@@ -183,7 +208,16 @@ ALGORITHMS: Registry[AlgorithmSpec] = Registry("algorithm")
 GENERATORS: Registry[GeneratorSpec] = Registry("generator")
 
 
-def register_algorithm(name: str, *, dim: int) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
+def _check_name_and_dim(kind: str, name: Any, dim: Any) -> None:
+    if not isinstance(name, str) or not name.strip():
+        raise UsageError(f"{kind} name must be a non-empty string, got {name!r}")
+    if dim not in (2, 3):
+        raise UsageError(f"dim must be 2 or 3, got {dim!r}")
+
+
+def register_algorithm(
+    name: str, *, dim: int, writable: bool = False, clockwise: bool = False
+) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
     """Register a hull algorithm under ``name`` (a decorator).
 
     Parameters
@@ -192,6 +226,13 @@ def register_algorithm(name: str, *, dim: int) -> Callable[[Callable[..., Any]],
         Registry name, e.g. ``"my-quickhull"``.
     dim : {2, 3}
         Dimension of the points the function accepts.
+    writable : bool
+        Pass a writable copy of the points (default: the read-only array
+        itself, so a function that writes into its input fails loudly
+        instead of corrupting the case).
+    clockwise : bool
+        The function returns faces clockwise seen from outside (a clockwise
+        polygon in 2D); hullstress reverses each before checking.
 
     Returns
     -------
@@ -201,9 +242,10 @@ def register_algorithm(name: str, *, dim: int) -> Callable[[Callable[..., Any]],
     Notes
     -----
     The function receives an ``(n, dim)`` float64, C-contiguous, read-only
-    array and returns, in 3D, an ``(m, 3)`` integer array of counter-clockwise
-    triangles or a list of polygons; in 2D, a counter-clockwise sequence of
-    vertex indices.  If it accepts a keyword ``eps``, the eps variants apply.
+    array (a writable copy with ``writable=True``) and returns, in 3D, an
+    ``(m, 3)`` integer array of counter-clockwise triangles or a list of
+    polygons; in 2D, a counter-clockwise sequence of vertex indices.  If it
+    accepts a keyword ``eps``, the eps variants apply.
 
     Examples
     --------
@@ -216,10 +258,7 @@ def register_algorithm(name: str, *, dim: int) -> Callable[[Callable[..., Any]],
     ...     return [0, 1, 2]
     >>> ALGORITHMS.remove("doc-example-triangle")  # keep the registry as it was
     """
-    if not isinstance(name, str) or not name.strip():
-        raise UsageError(f"algorithm name must be a non-empty string, got {name!r}")
-    if dim not in (2, 3):
-        raise UsageError(f"dim must be 2 or 3, got {dim!r}")
+    _check_name_and_dim("algorithm", name, dim)
 
     def decorate(func: Callable[..., Any]) -> Callable[..., Any]:
         if not callable(func):
@@ -239,11 +278,88 @@ def register_algorithm(name: str, *, dim: int) -> Callable[[Callable[..., Any]],
                 takes_eps=takes_eps,
                 origin=_origin(func),
                 summary=_summary(func),
+                writable=bool(writable),
+                clockwise=bool(clockwise),
             )
         )
         return func
 
     return decorate
+
+
+def register_executable(
+    name: str,
+    command: str | Sequence[str],
+    *,
+    dim: int,
+    output: str = "i",
+    clockwise: bool = False,
+) -> AlgorithmSpec:
+    """Register a program in any language as a hull algorithm.
+
+    The program reads the points on stdin in Qhull's input format (the
+    dimension, the count, one point per line at full precision, as ``rbox``
+    writes them) and writes its hull on stdout.  It runs under the same
+    isolation as Python algorithms (per-call timeout, memory limit); a
+    non-zero exit is an ``error`` (``rejected`` on degenerate input) and
+    death by a signal a ``crash``, each with the tail of its stderr in the
+    row's reason; output that cannot be parsed is a ``fail`` naming the line.
+
+    Parameters
+    ----------
+    name : str
+        Registry name (``--algorithm NAME``).
+    command : str or sequence of str
+        The command line, split like a shell would (``"qconvex Qt i"``); it
+        is not run through a shell (use ``["sh", "-c", "..."]`` for pipes).
+    dim : {2, 3}
+        Dimension of the points the program hulls.
+    output : {"i", "Fx", "off"}
+        What it writes: Qhull's ``i`` (a count line, then one facet per line
+        as vertex indices; in 2D, Qhull's ``i`` lists edges ``a b``),
+        Qhull's ``Fx`` (2D only: the count, then the extreme point indices in
+        counter-clockwise order) or OFF (vertex coordinates, matched exactly to
+        input points, then faces).
+    clockwise : bool
+        The program writes 3D faces clockwise seen from outside, as Qhull's
+        ``i`` does (2D: a clockwise polygon); they are reversed before checking.
+
+    Returns
+    -------
+    AlgorithmSpec
+
+    Examples
+    --------
+    >>> from hullstress.registry import register_executable, ALGORITHMS
+    >>> spec = register_executable("doc-qconvex", "qconvex Qt i", dim=3, clockwise=True)
+    >>> spec.origin, spec.summary
+    ('executable', 'qconvex Qt i (Qhull i output, clockwise)')
+    >>> ALGORITHMS.remove("doc-qconvex")
+    """
+    _check_name_and_dim("executable", name, dim)
+    # Imported here: the adapter module is light, but the registry stays lighter.
+    from .adapters.executable import ExecutableHull
+
+    load_builtins()  # a clash with a built-in name is reported here, naming this program
+    func = ExecutableHull.from_command(command, dim=int(dim), output=output)
+    return ALGORITHMS.add(
+        AlgorithmSpec(name=name, func=func, dim=int(dim), takes_eps=False, origin="executable",
+                      summary=func.describe(clockwise=bool(clockwise)), clockwise=bool(clockwise))
+    )
+
+
+def set_clockwise(name: str, clockwise: bool = True) -> AlgorithmSpec:
+    """Mark the registered algorithm ``name`` as returning clockwise faces (``run --clockwise NAME``).
+
+    Raises
+    ------
+    UnknownNameError
+        When ``name`` is not registered (the message lists the valid names).
+    """
+    spec = ALGORITHMS.get(name)
+    if spec.clockwise == clockwise:
+        return spec
+    return ALGORITHMS.replace(replace(spec, clockwise=bool(clockwise)))
 
 
 def register_generator(
@@ -332,12 +448,17 @@ def load_builtins() -> None:
 
         for module in ("hullstress.algorithms", "hullstress.adapters", "generators"):
             try:
-                importlib.import_module(module)
+                imported = importlib.import_module(module)
             except ModuleNotFoundError as exc:
                 # Only tolerate the package itself being absent (a partial
                 # install); a missing dependency inside it is a real error.
                 if exc.name != module:
                     raise
+                continue
+            # A package whose import is kept light registers on request (the adapters).
+            register_all = getattr(imported, "register_all", None)
+            if callable(register_all):
+                register_all()
         from . import plugins
 
         plugins.load_entry_points()

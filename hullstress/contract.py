@@ -35,6 +35,7 @@ __all__ = [
     "require_face_size",
     "canonical_output",
     "least_rotation",
+    "reverse_orientation",
 ]
 
 #: The fewest vertices of a face of a closed surface (a full-dimensional 3D hull).
@@ -398,3 +399,23 @@ def canonical_output(output: np.ndarray | FaceSet) -> np.ndarray | FaceSet:
     else:
         indices = rotated[:0]
     return FaceSet(indices, offsets)
+
+
+def reverse_orientation(faces: np.ndarray | FaceSet) -> np.ndarray | FaceSet:
+    """Reverse every face (3D) or the polygon (2D): a clockwise output made counter-clockwise.
+
+    Examples
+    --------
+    >>> reverse_orientation(np.array([0, 1, 2])).tolist()
+    [2, 1, 0]
+    >>> reverse_orientation(FaceSet.from_polygons([[0, 1, 2], [0, 2, 3, 4]])).to_python()
+    [[2, 1, 0], [4, 3, 2, 0]]
+    """
+    if not isinstance(faces, FaceSet):
+        return np.asarray(faces)[::-1].copy()
+    sizes = faces.sizes
+    face_of = np.repeat(np.arange(faces.n_faces, dtype=np.int64), sizes)
+    position = np.arange(len(faces.indices), dtype=np.int64)
+    # Within each face, position p maps to (start + end - 1 - p).
+    mirrored = faces.offsets[face_of] + faces.offsets[face_of + 1] - 1 - position
+    return FaceSet(faces.indices[mirrored], faces.offsets.copy())

@@ -2,15 +2,21 @@
 
 Every error the harness raises on purpose derives from :class:`HullstressError`.
 The command line maps :class:`UsageError` (and its subclasses) to exit status 2
-with the message on one line; anything else escaping is an internal error
-(exit status 3).
+and :class:`EnvironmentFailure` to exit status 4, each with the message on one
+line; anything else escaping is an internal error (exit status 3).
 """
 
 from __future__ import annotations
 
+import errno
 import re
+import signal
+from enum import IntEnum
 
 __all__ = [
+    "ExitStatus",
+    "Interrupted",
+    "ENVIRONMENT_ERRNOS",
     "HullstressError",
     "UsageError",
     "UnknownNameError",
@@ -20,8 +26,53 @@ __all__ = [
     "AlgorithmStepLimit",
     "CorpusError",
     "GeneratorValueError",
+    "EnvironmentFailure",
+    "CodeCrashed",
+    "is_environment_error",
     "one_line",
 ]
+
+
+class ExitStatus(IntEnum):
+    """The exit statuses of every command (DESIGN.md, "Command line")."""
+
+    #: Nothing (new) failed.
+    OK = 0
+    #: Failures found (with a baseline: new failure groups).
+    FAILURES = 1
+    #: A usage or input error: one line on stderr naming the offending value.
+    USAGE = 2
+    #: A bug of hullstress itself (never a user's input or environment).
+    INTERNAL = 3
+    #: The environment refused an output: a full disk, a read-only or unwritable
+    #: path (one line naming it); what was computed before stays on disk.
+    ENVIRONMENT = 4
+    #: Nothing was done: no call ran (a time budget spent before the first call,
+    #: an empty corpus), as pytest's 5 for "no tests collected".
+    NO_WORK = 5
+    #: Interrupted by SIGINT (Ctrl-C) or SIGTERM, after writing the partial report.
+    SIGINT = 130
+    SIGTERM = 143
+
+
+#: errno values that mean "the environment refused" (exit status 4), not "you gave a wrong path" (2).
+ENVIRONMENT_ERRNOS = frozenset(
+    getattr(errno, name) for name in ("ENOSPC", "EDQUOT", "EFBIG", "EROFS", "EACCES", "EPERM", "EIO", "ETXTBSY")
+    if hasattr(errno, name)
+)
+
+
+class Interrupted(KeyboardInterrupt):
+    """A SIGINT or SIGTERM arrived while a stage was running (it stops the stage)."""
+
+    def __init__(self, signum: int) -> None:
+        super().__init__(signal.Signals(signum).name)
+        self.signum = signum
+
+    @property
+    def exit_status(self) -> int:
+        """130 for SIGINT, 143 for SIGTERM (the shell's 128 + signal number)."""
+        return int(ExitStatus.SIGTERM if self.signum == signal.SIGTERM else ExitStatus.SIGINT)
 
 
 class HullstressError(Exception):
@@ -39,8 +90,8 @@ class UnknownNameError(UsageError, KeyError):
         return str(self.args[0]) if self.args else ""
 
 
-class DuplicateNameError(HullstressError):
-    """A second, different object registered under a name already taken."""
+class DuplicateNameError(UsageError):
+    """A second, different object registered under a name already taken (a usage error: exit status 2)."""
 
 
 class InputFileError(UsageError):
@@ -61,6 +112,25 @@ class CorpusError(HullstressError):
 
 class GeneratorValueError(UsageError, ValueError):
     """A generator argument out of range, e.g. too few points for the family (also a ValueError)."""
+
+
+class EnvironmentFailure(HullstressError):
+    """The environment refused an output: a full disk, a read-only or unwritable path (exit status 4)."""
+
+    @classmethod
+    def writing(cls, path: object, exc: OSError, what: str = "") -> "EnvironmentFailure":
+        """``cannot write <what> '<path>': <reason>`` from the OSError that refused it."""
+        label = f"{what} " if what else ""
+        return cls(f"cannot write {label}{str(path)!r}: {exc.strerror or exc}")
+
+
+def is_environment_error(exc: BaseException) -> bool:
+    """An OSError that says the disk is full or a path is not writable (exit status 4)."""
+    return isinstance(exc, OSError) and exc.errno in ENVIRONMENT_ERRNOS
+
+
+class CodeCrashed(HullstressError):
+    """The code under test died by a signal (an executable killed by SIGSEGV, say): its row is a ``crash``."""
 
 
 def one_line(exc: BaseException) -> str:

@@ -40,8 +40,8 @@ import numpy as np
 
 from .case import Case, points_digest
 from .config import NO_EPS, AlgorithmConfig
-from .contract import FaceSet, canonical_output, normalize_output, require_face_size
-from .errors import ContractViolation, one_line
+from .contract import FaceSet, canonical_output, normalize_output, require_face_size, reverse_orientation
+from .errors import CodeCrashed, ContractViolation, one_line
 from .records import CONTRACT_REASON, METHOD_REASON, Stage
 from .results import ResultRow, make_row
 from .tolerance import tolerance
@@ -93,9 +93,11 @@ class CallOutcome:
 
     Attributes
     ----------
-    kind : {"ok", "raised", "contract", "preprocess"}
+    kind : {"ok", "raised", "contract", "crash", "preprocess"}
         Returned a valid output, raised, returned output breaking the
-        contract, or never ran because preprocessing failed.
+        contract (or raised ContractViolation: a program's unreadable output),
+        died (an executable killed by a signal), or never ran because
+        preprocessing failed.
     faces : ndarray or FaceSet or None
         The output in the case's own rows (``kind == "ok"``): canonical
         (:func:`~hullstress.contract.canonical_output`), and with sphere on
@@ -140,22 +142,22 @@ def input_problem(points: np.ndarray, dim: int) -> str | None:
     return None
 
 
-def points_facts(points: np.ndarray, dim: int, *, qhull: bool = True) -> CaseFacts:
-    """Validity, exact affine rank and (optionally) Qhull reference of a point array."""
+def points_facts(points: np.ndarray, dim: int, *, qhull: bool = True, qhull_options: str | None = None) -> CaseFacts:
+    """Validity, exact affine rank and (optionally) Qhull reference of a point array (``qhull_options`` first)."""
     from .checker import affine_rank, qhull_reference
 
     problem = input_problem(points, dim)
     if problem is not None:
         return CaseFacts(invalid_input=problem, affine_rank=None, degenerate=True, reference=None)
-    reference = qhull_reference(points) if qhull else None
+    reference = qhull_reference(points, options=qhull_options) if qhull else None
     known = reference.affine_rank if reference is not None else None
     rank = int(known) if known is not None else int(affine_rank(points))
     return CaseFacts(invalid_input=None, affine_rank=rank, degenerate=rank < dim, reference=reference)
 
 
-def case_facts(case: Case, *, qhull: bool = True) -> CaseFacts:
-    """Compute a case's validity, exact affine rank and (optionally) Qhull reference."""
-    return points_facts(case.points, case.dim, qhull=qhull)
+def case_facts(case: Case, *, qhull: bool = True, qhull_options: str | None = None) -> CaseFacts:
+    """Compute a case's validity, exact affine rank and (optionally) Qhull reference (``qhull_options`` first)."""
+    return points_facts(case.points, case.dim, qhull=qhull, qhull_options=qhull_options)
 
 
 # The projected points of one case are the same for every algorithm with the
@@ -238,14 +240,21 @@ def call_algorithm(case: Case, config: AlgorithmConfig) -> CallOutcome:
             # The code under test's own warnings (overflow in its cross products,
             # say) are not the harness's output; what it returns is judged instead.
             warnings.simplefilter("ignore")
-            raw = spec.func(points, **kwargs)
+            raw = spec.func(np.array(points) if spec.writable else points, **kwargs)
+    except ContractViolation as exc:
+        return CallOutcome("contract", error=str(exc), seconds=time.perf_counter() - start, eps_value=eps_value)
+    except CodeCrashed as exc:
+        return CallOutcome("crash", error=str(exc), seconds=time.perf_counter() - start, eps_value=eps_value)
     except (Exception, RecursionError) as exc:  # the code under test may raise anything
         return CallOutcome("raised", error=one_line(exc), seconds=time.perf_counter() - start, eps_value=eps_value,
                            **given)
     seconds = time.perf_counter() - start
     try:
         # Faces of one or two vertices are judged once the rank is known (see judge).
-        faces = canonical_output(normalize_output(raw, len(points), case.dim, min_face_size=1))
+        faces = normalize_output(raw, len(points), case.dim, min_face_size=1)
+        if spec.clockwise:  # --clockwise: the library's documented orientation, turned to the contract's
+            faces = reverse_orientation(faces)
+        faces = canonical_output(faces)
     except ContractViolation as exc:
         return CallOutcome("contract", error=str(exc), seconds=seconds, eps_value=eps_value, **given)
     if index_map is None:
@@ -353,6 +362,8 @@ def judge(case: Case, config: AlgorithmConfig, outcome: CallOutcome, facts: Case
         return row("rejected" if declined else "error", outcome.error)
     if outcome.kind == "contract":
         return row("fail", f"{CONTRACT_REASON} {outcome.error}")
+    if outcome.kind == "crash":
+        return row("crash", outcome.error)
     assert outcome.faces is not None
     if given.invalid_input:
         if problem:
@@ -383,8 +394,9 @@ def judge(case: Case, config: AlgorithmConfig, outcome: CallOutcome, facts: Case
                          f"is not the input's hull: {method.detail}", method)
 
 
-def evaluate(case: Case, config: AlgorithmConfig, *, facts: CaseFacts | None = None, qhull: bool = True) -> ResultRow:
+def evaluate(case: Case, config: AlgorithmConfig, *, facts: CaseFacts | None = None, qhull: bool = True,
+             qhull_options: str | None = None) -> ResultRow:
     """Run and judge one config on one case in this process (no isolation, no timeout)."""
     if facts is None:
-        facts = case_facts(case, qhull=qhull)
+        facts = case_facts(case, qhull=qhull, qhull_options=qhull_options)
     return judge(case, config, call_algorithm(case, config), facts)

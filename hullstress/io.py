@@ -35,6 +35,7 @@ from __future__ import annotations
 import math
 import os
 import re
+import sys
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -47,6 +48,7 @@ __all__ = [
     "POINT_FORMATS",
     "FACE_FORMATS",
     "read_points",
+    "read_points_text",
     "read_faces",
     "write_points",
     "write_faces",
@@ -101,10 +103,14 @@ def _label(path: Path, what: str) -> str:
     return f"{what} file '{path}'"
 
 
+#: The file name that means "read standard input" (Qhull's and rbox's habit: ``rbox 10 | ...``).
+STDIN = "-"
+
+
 def _read_text_lines(path: Path, what: str) -> list[tuple[int, list[str]]]:
-    """Non-blank, non-comment lines as (1-based line number, tokens)."""
+    """Non-blank, non-comment lines as (1-based line number, tokens); ``-`` reads standard input."""
     try:
-        text = path.read_text(encoding="utf-8")
+        text = sys.stdin.read() if str(path) == STDIN else path.read_text(encoding="utf-8")
     except FileNotFoundError:
         raise InputFileError(f"{_label(path, what)} does not exist") from None
     except IsADirectoryError:
@@ -113,6 +119,10 @@ def _read_text_lines(path: Path, what: str) -> list[tuple[int, list[str]]]:
         raise InputFileError(f"{_label(path, what)} is not UTF-8 text (use .npy for binary arrays)") from None
     except OSError as exc:
         raise InputFileError(f"{_label(path, what)} cannot be read: {exc.strerror or exc}") from None
+    return _text_rows(text, path, what)
+
+
+def _text_rows(text: str, path: Path, what: str) -> list[tuple[int, list[str]]]:
     rows = []
     for number, line in enumerate(text.splitlines(), start=1):
         stripped = line.strip()
@@ -325,7 +335,8 @@ def read_points(path: str | os.PathLike[str], *, dim: int | None = None) -> np.n
     Parameters
     ----------
     path : str or path-like
-        The file; its extension picks the format (others are sniffed).
+        The file; its extension picks the format (others are sniffed); ``-``
+        reads standard input (text formats).
     dim : {2, 3} or None
         The expected dimension; ``None`` accepts 2 or 3.
 
@@ -382,6 +393,28 @@ def read_points(path: str | os.PathLike[str], *, dim: int | None = None) -> np.n
     return _validate_points(path, pts, dim)
 
 
+def read_points_text(text: str, *, label: str, dim: int | None = None) -> np.ndarray:
+    """Read points from Qhull/rbox text (or plain rows) already in memory, as :func:`read_points` would.
+
+    Parameters
+    ----------
+    text : str
+        E.g. what ``rbox`` printed.
+    label : str
+        Names the source in error messages.
+    dim : {2, 3} or None
+
+    Examples
+    --------
+    >>> read_points_text("2 rbox 2 D2\\n2\\n0 0\\n1 0.5\\n", label="rbox").tolist()
+    [[0.0, 0.0], [1.0, 0.5]]
+    """
+    path = Path(label)
+    rows = _text_rows(text, path, "points")
+    pts = _qhull_points(path, rows) if _looks_like_qhull(rows) else _xyz_points(path, _strip_header(rows) or rows)
+    return _validate_points(path, pts, dim)
+
+
 # --------------------------------------------------------------------------- faces
 
 
@@ -398,25 +431,14 @@ def _index_rows(path: Path, rows: list[tuple[int, list[str]]]) -> list[list[int]
 
 
 def _chain_edges(path: Path, edges: list[list[int]]) -> list[int]:
-    """Chain directed edges ``a -> b`` into one closed polygon."""
-    succ: dict[int, int] = {}
-    for a, b in edges:
-        if a in succ:
-            raise InputFileError(f"{_label(path, 'faces')}: vertex {a} starts two edges; edges do not form one polygon")
-        succ[a] = b
-    start = edges[0][0]
-    polygon = [start]
-    v = succ[start]
-    while v != start:
-        if v not in succ or len(polygon) > len(edges):
-            raise InputFileError(f"{_label(path, 'faces')}: the directed edges do not close into one polygon at vertex {v}")
-        polygon.append(v)
-        v = succ[v]
-    if len(polygon) != len(edges):
-        raise InputFileError(
-            f"{_label(path, 'faces')}: the edges form more than one cycle ({len(polygon)} of {len(edges)} edges chained)"
-        )
-    return polygon
+    """Chain directed edges ``a -> b`` into one closed polygon (the one chainer: :mod:`hullstress.qhull_format`)."""
+    from .errors import ContractViolation
+    from .qhull_format import chain_edges
+
+    try:
+        return chain_edges(edges, where=_label(path, "faces"))
+    except ContractViolation as exc:
+        raise InputFileError(str(exc)) from None
 
 
 def read_faces(path: str | os.PathLike[str], *, dim: int | None = None) -> Any:
@@ -486,8 +508,9 @@ def read_faces(path: str | os.PathLike[str], *, dim: int | None = None) -> Any:
     else:
         rows = _strip_header(rows) or rows
         faces = _index_rows(path, rows)
-        # Qhull 'i' output: a lone count on the first line, then that many rows.
-        if len(faces) > 1 and len(faces[0]) == 1 and faces[0][0] == len(faces) - 1 and len(faces[1]) > 1:
+        # Qhull 'i' output: a lone count on the first line, then that many rows
+        # (in 2D also Qhull's 'Fx': the count, then one index per line).
+        if len(faces) > 1 and len(faces[0]) == 1 and faces[0][0] == len(faces) - 1 and (len(faces[1]) > 1 or dim == 2):
             faces = faces[1:]
     if not faces:
         raise InputFileError(f"{_label(path, 'faces')} holds no faces")

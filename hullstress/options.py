@@ -20,7 +20,8 @@ from types import MappingProxyType
 
 from .errors import UsageError
 
-__all__ = ["Defaults", "DEFAULTS", "TriageBudget", "Profile", "PROFILES", "get_profile"]
+__all__ = ["Defaults", "DEFAULTS", "TriageBudget", "Profile", "PROFILES", "get_profile", "case_memory_bytes",
+           "memory_ceiling_bytes"]
 
 
 @dataclass(frozen=True)
@@ -43,6 +44,12 @@ class Defaults:
         At most this many failure folders per run (worst groups first).
     shrink_max_calls : int
         Cap on judged calls of one shrink.
+    case_bytes_per_coordinate : int
+        Peak memory per coordinate of a case while it is generated, hulled and
+        checked, in bytes: the worst measured (cospherical 3D points, every one
+        extreme, through Qhull and the exact checker: about 1.1 KB; uniform
+        points take a fifth of that).  Sizes whose cases would exceed the
+        memory limit are refused before anything is generated.
     """
 
     call_timeout: float = 10.0
@@ -50,6 +57,7 @@ class Defaults:
     memory_limit_mb: float = 4096.0
     max_folders: int = 2000
     shrink_max_calls: int = 2000
+    case_bytes_per_coordinate: int = 1200
 
 
 #: The one defaults object.
@@ -139,6 +147,30 @@ PROFILES: Mapping[str, Profile] = MappingProxyType(
         ),
     }
 )
+
+
+def case_memory_bytes(n_points: int, dim: int) -> int:
+    """Estimated peak memory of one case of ``n_points`` points in ``dim`` dimensions, in bytes.
+
+    Examples
+    --------
+    >>> case_memory_bytes(10**8, 3) > 300 * 2**30
+    True
+    """
+    return int(n_points) * int(dim) * DEFAULTS.case_bytes_per_coordinate
+
+
+def memory_ceiling_bytes(memory_limit_mb: float | None) -> tuple[int | None, str]:
+    """What one case may take: the per-worker limit, else the machine's memory; with its name for messages."""
+    if memory_limit_mb:
+        return int(memory_limit_mb * 2**20), f"the --memory-limit of {memory_limit_mb:g} MiB"
+    import os
+
+    try:
+        total = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    except (ValueError, OSError, AttributeError):
+        return None, "no limit"
+    return int(total), f"this machine's {total / 2**30:.1f} GiB of memory"
 
 
 def get_profile(name: str) -> Profile:

@@ -20,11 +20,21 @@ report     tables, summary, failure folders, HTML, JUnit;         :func:`hullstr
 consumes plain records and knows nothing of the stages after it.
 
 Interruption is handled here, once: the first SIGINT or SIGTERM stops the
-phase under way (the sweep's workers are killed, triage keeps the groups it
-finished), every finished row is kept, the report is written from what
-there is and marked incomplete and interrupted, and :attr:`Run.exit_status`
-is 130 (SIGINT) or 143 (SIGTERM).  A second signal during the report aborts
-it.
+phase under way (the sweep's workers are killed, a call in progress
+included; triage keeps the groups it finished and its shrinker stops between
+calls), every finished row is kept, the report is written from what there is
+and marked incomplete and interrupted (with the signal), and
+:attr:`Run.exit_status` is 130 (SIGINT) or 143 (SIGTERM).  The signal raises
+only while code under test runs (the sweep, triage, saving to the corpus);
+while files are written it is noted and honoured at the next step, so a
+report is never left half-written by the first signal.  A second signal
+during the report aborts it.
+
+The environment is handled here too: output folders (``--out``,
+``--save-corpus``, the folder of ``--junit``) are checked before any work; a
+write refused later (a full disk) stops the run where it is, keeps every file
+already written (``results.partial.csv`` included) and sets
+:attr:`Run.environment_errors` (exit status 4).
 """
 
 from __future__ import annotations
@@ -41,23 +51,16 @@ from typing import Any
 import pandas as pd
 
 from .case import Case
-from .errors import UsageError
+from .errors import EnvironmentFailure, ExitStatus, Interrupted, UsageError, is_environment_error
 from .results import ResultRow, to_frame
 from .runner import ExecutionStats, Task
+from .qhull_format import check_qhull_options
 from .sweep import SweepOptions, build_tasks, run_sweep, sort_table
 
 __all__ = ["RunOptions", "Run", "Interrupted", "Plan", "plan", "run", "EXIT_FOR_SIGNAL"]
 
 #: Exit status after an interrupt, by signal (the shell's 128 + signal number).
-EXIT_FOR_SIGNAL = {signal.SIGINT: 130, signal.SIGTERM: 143}
-
-
-class Interrupted(KeyboardInterrupt):
-    """A SIGINT or SIGTERM arrived while a stage was running (it stops the stage)."""
-
-    def __init__(self, signum: int) -> None:
-        super().__init__(signal.Signals(signum).name)
-        self.signum = signum
+EXIT_FOR_SIGNAL = {signal.SIGINT: int(ExitStatus.SIGINT), signal.SIGTERM: int(ExitStatus.SIGTERM)}
 
 
 @dataclass(frozen=True)
@@ -84,6 +87,12 @@ class RunOptions:
         The command line's arguments, recorded in ``run.json``.
     pictures : bool
         Draw pictures of failures.
+    registration : tuple of str
+        The command line's ``--plugin``/``--exec``/``--clockwise`` arguments (repeated in
+        the reproduce commands of the algorithms that need them).
+    last_failed : {None, "only", "first"}
+        ``--last-failed``: run only the calls that failed in the latest run in
+        ``out``; ``--failed-first``: run their cases first.
     """
 
     sweep: SweepOptions = field(default_factory=SweepOptions)
@@ -95,15 +104,29 @@ class RunOptions:
     plugins: tuple[str, ...] = ()
     arguments: Mapping[str, Any] = field(default_factory=dict)
     pictures: bool = True
+    registration: tuple[str, ...] = ()
+    last_failed: str | None = None
 
 
 @dataclass(frozen=True)
 class Plan:
-    """The generate stage's output: tasks (cases x configs) and what was not generated."""
+    """The generate stage's output: tasks (cases x configs) and what was not generated.
+
+    Attributes
+    ----------
+    tasks : list of Task
+        In the order they run (``--failed-first`` puts earlier failures first).
+    cases : list of Case
+        The cases of ``tasks`` in generation order (the results table's order).
+    skipped : list of str
+    notes : list of str
+        What the terminal should say about the selection (``--last-failed``).
+    """
 
     tasks: list[Task]
     cases: list[Case]
     skipped: list[str]
+    notes: list[str] = field(default_factory=list)
 
     @property
     def n_calls(self) -> int:
@@ -126,6 +149,7 @@ class Run:
         ``run.json``'s content.
     triage : TriageResult or None
     report : ReportFiles or None
+        None when the run stopped before its report (a refused write).
     comparison : DataFrame or None
         Failure groups against the baseline (``state``: new, still-failing, fixed).
     corpus_saved : list of (Path, bool)
@@ -136,6 +160,8 @@ class Run:
         Every planned call ran (not interrupted, time budget not exhausted).
     seconds : dict of str to float
         Wall time per phase.
+    environment_errors : list of str
+        Writes the environment refused (a full disk, an unwritable path), one line each.
     """
 
     run_dir: Path
@@ -150,6 +176,7 @@ class Run:
     signal: int | None = None
     complete: bool = True
     seconds: dict[str, float] = field(default_factory=dict)
+    environment_errors: list[str] = field(default_factory=list)
 
     @property
     def interrupted(self) -> bool:
@@ -163,30 +190,54 @@ class Run:
 
     @property
     def exit_status(self) -> int:
-        """130/143 interrupted; with a baseline 1 only for new failure groups; else 1 for any failure."""
+        """130/143 interrupted; 4 a write refused; 5 no call ran; with a baseline 1 only for new groups; else 1 for any failure."""
         if self.signal is not None:
-            return EXIT_FOR_SIGNAL.get(self.signal, 130)
+            return EXIT_FOR_SIGNAL.get(self.signal, int(ExitStatus.SIGINT))
+        if self.environment_errors:
+            return int(ExitStatus.ENVIRONMENT)
+        if not len(self.table):
+            return int(ExitStatus.NO_WORK)
         if self.comparison is not None:
-            return 1 if bool((self.comparison["state"] == "new").any()) else 0
-        return 1 if self.n_failed else 0
+            return int(ExitStatus.FAILURES if bool((self.comparison["state"] == "new").any()) else ExitStatus.OK)
+        return int(ExitStatus.FAILURES if self.n_failed else ExitStatus.OK)
 
 
 class _Signals:
-    """SIGINT/SIGTERM for the duration of a run: stop the running stage, remember the signal."""
+    """SIGINT/SIGTERM for the duration of a run: remember the signal; stop the code under test.
+
+    The handler raises :class:`Interrupted` only inside :meth:`raising`
+    regions (where code under test runs), at most once per region; elsewhere
+    the first signal is only recorded (:meth:`stop_requested`) and a second
+    one aborts.
+    """
 
     def __init__(self) -> None:
         self.signum: int | None = None
-        self.raising = True  # during the report the first signal only asks it to hurry
+        self._raising = False
 
     def handler(self, signum: int, frame: Any) -> None:
         first = self.signum is None
         if first:
             self.signum = signum
-        if self.raising or not first:
+        if self._raising:
+            self._raising = False  # the region's clean-up runs undisturbed
+            raise Interrupted(signum)
+        if not first:
             raise Interrupted(signum)
 
     def stop_requested(self) -> bool:
         return self.signum is not None
+
+    @contextmanager
+    def raising(self) -> Iterator[None]:
+        """A region where the first signal raises at once (unless one arrived already: then it raises now)."""
+        if self.signum is not None:
+            raise Interrupted(self.signum)
+        self._raising = True
+        try:
+            yield
+        finally:
+            self._raising = False
 
     @contextmanager
     def installed(self) -> Iterator["_Signals"]:
@@ -201,22 +252,76 @@ class _Signals:
                 signal.signal(s, h)
 
 
-def plan(options: SweepOptions) -> Plan:
+def plan(options: SweepOptions, *, out: str | None = None, last_failed: str | None = None) -> Plan:
     """The generate stage: build every case and cross it with its dimension's configs.
+
+    Parameters
+    ----------
+    options : SweepOptions
+    out : str, optional
+        The output folder whose latest run ``last_failed`` reads.
+    last_failed : {None, "only", "first"}
+        ``--last-failed`` / ``--failed-first`` (see :mod:`hullstress.previous`).
 
     Raises
     ------
     UsageError
-        When no case matches the selected algorithms' dimensions (nothing to run).
+        When no case matches the selected algorithms' dimensions (nothing to
+        run), a size would not fit in memory, or ``--qhull-options`` are not
+        Qhull options; nothing has been generated then.
     """
+    check_qhull_options(options.qhull_options)
     tasks, cases, _, skipped = build_tasks(options)
     if not tasks:
         raise UsageError("nothing to run: no case matches the selected algorithms' dimensions")
-    return Plan(tasks=tasks, cases=cases, skipped=skipped)
+    notes: list[str] = []
+    if last_failed is not None:
+        from .previous import select_previous_failures
+
+        tasks, note = select_previous_failures(tasks, out or ".", last_failed)
+        notes.append(note)
+        kept = {t.case.case_id for t in tasks}
+        cases = [c for c in cases if c.case_id in kept]
+    return Plan(tasks=tasks, cases=cases, skipped=skipped, notes=notes)
 
 
 def _run_name(options: RunOptions) -> str:
     return f"{time.strftime('%Y%m%d-%H%M%S')}-{options.sweep.profile}-seed{options.sweep.seed}"
+
+
+def _refusal(exc: BaseException) -> str | None:
+    """The one-line message of a write the environment refused, or None for any other error."""
+    if isinstance(exc, EnvironmentFailure):
+        return str(exc)
+    if is_environment_error(exc):
+        assert isinstance(exc, OSError)
+        return f"cannot write {str(exc.filename or 'a file')!r}: {exc.strerror or exc}"
+    return None
+
+
+@contextmanager
+def _noting_refusals(the_run: Run) -> Iterator[None]:
+    """Record a write the environment refused in ``the_run.environment_errors`` and go on; re-raise anything else."""
+    try:
+        yield
+    except (EnvironmentFailure, OSError) as exc:
+        message = _refusal(exc)
+        if message is None:
+            raise
+        the_run.environment_errors.append(message)
+
+
+def _check_output_folders(options: RunOptions) -> None:
+    """Refuse unwritable output folders before any work is done (exit status 4, or 2 for a bad path)."""
+    from .files import writable_folder
+
+    if options.save_corpus:
+        writable_folder(options.save_corpus, "--save-corpus")
+    if options.junit:
+        junit = Path(options.junit)
+        if junit.is_dir():
+            raise UsageError(f"--junit {options.junit!r} is a folder, expected a file name")
+        writable_folder(junit.parent, "--junit")
 
 
 def run(
@@ -242,37 +347,40 @@ def run(
     -------
     Run
         Never raises for what the code under test does; an interrupt ends the
-        run early with :attr:`Run.signal` set.
+        run early with :attr:`Run.signal` set, a refused write with
+        :attr:`Run.environment_errors`.
 
     Raises
     ------
     UsageError
-        Bad options, an unreadable baseline, an unwritable ``--out``, an
-        unreachable scheduler (then no run folder is left behind).
+        Bad options, an unreadable baseline, a path that cannot be a folder,
+        an unreachable scheduler (then no run folder is left behind).
+    EnvironmentFailure
+        An output folder that is read-only or not writable, found before any work.
     """
     from .corpus.baseline import compare_with_baseline, load_baseline
     from .progress import ProgressBar
-    from .report.stage import write_run_report
-    from .report.writer import RowStream, new_run_dir, run_metadata, write_report
-    from .triage.stage import triage_failures
+    from .report.writer import OutputLog, RowStream, new_run_dir, prepare_report
 
     say = echo or (lambda line: None)
     sweep = options.sweep
-    profile = sweep.profile_spec
     baseline = load_baseline(options.baseline) if options.baseline else None  # fails before the sweep
-    the_plan = plan(sweep)
+    the_plan = plan(sweep, out=options.out, last_failed=options.last_failed)
+    _check_output_folders(options)
+    prepare_report(pictures=options.pictures)
     run_dir = new_run_dir(options.out, _run_name(options))
     say(f"hullstress: {len(the_plan.tasks)} cases x configs = {the_plan.n_calls} calls -> {run_dir}")
-    timeout = sweep.runner_options().timeout
     the_run = Run(run_dir=run_dir, plan=the_plan, table=to_frame([]))
     signals = _Signals()
     rows: list[ResultRow] = []
     stream = RowStream(run_dir)
+    log = OutputLog(run_dir)
     bar = ProgressBar(the_plan.n_calls, enabled=progress)
 
     def collect(row: ResultRow) -> None:
         rows.append(row)
         stream(row)
+        log(row)
         bar.update(row)
         if on_row is not None:
             on_row(row)
@@ -281,12 +389,12 @@ def run(
     with signals.installed():
         # execute + check: the sweep.
         try:
-            result = run_sweep(sweep, on_row=collect, tasks=the_plan.tasks)
+            with signals.raising():
+                result = run_sweep(sweep, on_row=collect, tasks=the_plan.tasks)
             the_run.table, the_run.stats = result.table, result.stats
             the_run.complete = not result.stats.budget_exhausted
         except KeyboardInterrupt:
             the_run.complete = False
-            the_run.table = sort_table(to_frame(rows), [c.case_id for c in the_plan.cases])
         except UsageError:
             # e.g. an unreachable --scheduler: nothing ran, so leave no empty run folder behind.
             stream.close(remove=True)
@@ -295,47 +403,103 @@ def run(
 
                 shutil.rmtree(run_dir, ignore_errors=True)
             raise
+        except (EnvironmentFailure, OSError) as exc:
+            if _refusal(exc) is None:
+                raise
+            the_run.environment_errors.append(str(_refusal(exc)))  # a full disk: the sweep stops here
+            the_run.complete = False
         finally:
             bar.close()
+            log.close()
+        if not the_run.complete and len(the_run.table) != len(rows):
+            the_run.table = sort_table(to_frame(rows), [c.case_id for c in the_plan.cases])
         the_run.seconds["sweep"] = time.perf_counter() - started
         the_run.signal = signals.signum
-        the_run.meta = _metadata(the_run, options, run_metadata)
-        write_report(run_dir, the_run.table, the_run.meta)  # the table is safe on disk before triage
-        stream.close(remove=True)
+        _write_tables(the_run, options)  # the table is safe on disk before triage
+        stream.close(remove=not the_run.environment_errors)
+        if the_run.environment_errors:
+            return the_run  # a full disk: stop here, keeping what is written
 
         # triage.
         t0 = time.perf_counter()
-        if the_run.signal is None:
+        if signals.signum is None:
             say("triage: grouping failures, shrinking one case per group")
-        the_run.triage = triage_failures(
-            the_run.table, the_plan.cases, budget=profile.triage, shrink=options.shrink and not the_run.interrupted,
-            timeout=timeout, should_stop=signals.stop_requested,
-        )
+        the_run.triage = _triage(the_run, options, signals)
         the_run.seconds["triage"] = time.perf_counter() - t0
         the_run.signal = signals.signum
         if the_run.signal is None and baseline is not None:
             the_run.comparison = compare_with_baseline(the_run.table, baseline)
         if options.save_corpus and the_run.signal is None:
-            the_run.corpus_saved = _save_corpus(options, the_run, timeout)
+            the_run.corpus_saved = _save_corpus(options, the_run, signals)
         the_run.signal = signals.signum
 
-        # report: the first signal from here on only skips the remaining pictures.
-        signals.raising = False
-        t0 = time.perf_counter()
-        the_run.seconds["total_before_report"] = time.perf_counter() - started
-        the_run.meta = _metadata(the_run, options, run_metadata)
-        the_run.report = write_run_report(
-            run_dir, the_run.table, the_run.meta, the_run.triage, picture_budget=profile.triage.pictures,
-            plugins=options.plugins, timeout=timeout, junit_path=options.junit, pictures=options.pictures,
-            comparison=the_run.comparison, baseline_label=options.baseline, should_stop=signals.stop_requested,
-        )
-        the_run.seconds["report"] = time.perf_counter() - t0
-        if signals.signum is not None and the_run.signal is None:
-            # Interrupted while the report was being written: it is complete, but say so.
-            the_run.signal = signals.signum
-            the_run.meta = _metadata(the_run, options, run_metadata)
-            write_report(run_dir, the_run.table, the_run.meta)
+        # report: a first signal from here on cuts the picture under way short and skips the
+        # others; the rest of the report is written.  A second signal aborts it.
+        say(f"report: writing {run_dir}")
+        _report(the_run, options, signals, started)
     return the_run
+
+
+def _write_tables(the_run: Run, options: RunOptions) -> None:
+    """``results.csv`` (+ Parquet), ``summary.md`` and ``run.json`` as the run stands; a refused write is recorded."""
+    from .report.writer import run_metadata, write_report, write_run_json
+
+    the_run.meta = _metadata(the_run, options, run_metadata)
+    refused = len(the_run.environment_errors)
+    with _noting_refusals(the_run):
+        write_report(the_run.run_dir, the_run.table, the_run.meta)
+    if len(the_run.environment_errors) > refused:
+        # A full disk may still take the small run.json, which says what happened.
+        the_run.meta = _metadata(the_run, options, run_metadata)
+        with _noting_refusals(the_run):
+            write_run_json(the_run.run_dir, the_run.meta)
+
+
+def _triage(the_run: Run, options: RunOptions, signals: _Signals) -> Any:
+    from .triage.records import TriageResult
+    from .triage.stage import triage_failures
+
+    sweep = options.sweep
+    t0 = time.perf_counter()
+    try:
+        with signals.raising():
+            return triage_failures(
+                the_run.table, the_run.plan.cases, budget=sweep.profile_spec.triage,
+                shrink=options.shrink and signals.signum is None, timeout=sweep.runner_options().timeout,
+                should_stop=signals.stop_requested, qhull_options=sweep.qhull_options,
+            )
+    except KeyboardInterrupt:  # between groups or while grouping: nothing triaged is lost but this step
+        return TriageResult(groups=[], notes=["Triage was interrupted before it grouped the failures."],
+                            seconds=time.perf_counter() - t0, stopped=True)
+
+
+def _report(the_run: Run, options: RunOptions, signals: _Signals, started: float) -> None:
+    from .report.stage import write_run_report
+    from .report.writer import run_metadata, write_run_json
+
+    sweep = options.sweep
+    t0 = time.perf_counter()
+    the_run.seconds["total_before_report"] = time.perf_counter() - started
+    the_run.meta = _metadata(the_run, options, run_metadata)
+    try:
+        with _noting_refusals(the_run):
+            the_run.report = write_run_report(
+                the_run.run_dir, the_run.table, the_run.meta, the_run.triage,
+                picture_budget=sweep.profile_spec.triage.pictures, plugins=options.plugins,
+                timeout=sweep.runner_options().timeout, junit_path=options.junit, pictures=options.pictures,
+                comparison=the_run.comparison, baseline_label=options.baseline,
+                should_stop=signals.stop_requested, registration=options.registration,
+                tables_written=not the_run.environment_errors, interruptible=signals.raising,
+            )
+    except KeyboardInterrupt:
+        pass  # a second signal: the report stays as far as it got; run.json says why below
+    the_run.seconds["report"] = time.perf_counter() - t0
+    if signals.signum is not None and the_run.signal is None or the_run.report is None:
+        # Interrupted while the report was written, or it failed: run.json must say so.
+        the_run.signal = signals.signum
+        the_run.meta = _metadata(the_run, options, run_metadata)
+        with _noting_refusals(the_run):
+            write_run_json(the_run.run_dir, the_run.meta)
 
 
 def _metadata(the_run: Run, options: RunOptions, run_metadata: Callable[..., dict[str, Any]]) -> dict[str, Any]:
@@ -346,8 +510,11 @@ def _metadata(the_run: Run, options: RunOptions, run_metadata: Callable[..., dic
             "profile": options.sweep.profile, "seed": options.sweep.seed}, df=the_run.table,
         wall_seconds=the_run.seconds.get("sweep", wall), complete=the_run.complete and not the_run.interrupted,
         skipped=the_run.plan.skipped,
-        extra={"interrupted": the_run.interrupted,
+        extra={"state": _state(the_run),
+               "interrupted": the_run.interrupted,
                "signal": None if the_run.signal is None else signal.Signals(the_run.signal).name,
+               "environment_errors": list(the_run.environment_errors),
+               "selection": list(the_run.plan.notes),
                "calls_planned": the_run.plan.n_calls,
                "budget_exhausted": bool(stats.budget_exhausted) if stats else False,
                "runner": stats.as_dict() if stats else None,
@@ -365,7 +532,16 @@ def _not_reached(the_run: Run) -> dict[str, int]:
     return {family: n - int(done.get(family, 0)) for family, n in planned.items() if n > done.get(family, 0)}
 
 
-def _save_corpus(options: RunOptions, the_run: Run, timeout: float) -> list[tuple[Path, bool]]:
+def _state(the_run: Run) -> str:
+    """``run.json``'s one-word state: interrupted, environment-failure, incomplete (budget) or complete."""
+    if the_run.interrupted:
+        return "interrupted"
+    if the_run.environment_errors:
+        return "environment-failure"
+    return "complete" if the_run.complete else "incomplete"
+
+
+def _save_corpus(options: RunOptions, the_run: Run, signals: _Signals) -> list[tuple[Path, bool]]:
     """The minimised new failures become corpus entries (only new groups when there is a baseline)."""
     from .corpus.save import save_minimised_failures
 
@@ -373,8 +549,13 @@ def _save_corpus(options: RunOptions, the_run: Run, timeout: float) -> list[tupl
     if the_run.comparison is not None:
         new = the_run.comparison[the_run.comparison["state"] == "new"]
         new_groups = set(map(tuple, new[["algorithm", "sphere", "eps", "generator", "signature"]].astype(str).values))
-    return save_minimised_failures(
-        options.save_corpus, the_run.triage.records, the_run.plan.cases, new_groups=new_groups,
-        workers=options.sweep.runner_options().workers, timeout=timeout,
-        found_by=f"hullstress run {the_run.run_dir.name}",
-    )
+    runner = options.sweep.runner_options()
+    try:
+        with _noting_refusals(the_run), signals.raising():  # recording expectations runs every config
+            return save_minimised_failures(
+                options.save_corpus, the_run.triage.records, the_run.plan.cases, new_groups=new_groups,
+                workers=runner.workers, timeout=runner.timeout, found_by=f"hullstress run {the_run.run_dir.name}",
+            )
+    except KeyboardInterrupt:
+        pass
+    return []

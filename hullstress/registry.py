@@ -25,6 +25,7 @@ from ._registry import (
     get_generator,
     load_builtins,
     register_algorithm,
+    register_executable,
     register_generator,
 )
 
@@ -39,5 +40,6 @@ __all__ = [
     "get_generator",
     "load_builtins",
     "register_algorithm",
+    "register_executable",
     "register_generator",
 ]

@@ -28,7 +28,7 @@ STATUSES = ("pass", "fail", "rejected", "error", "timeout", "crash")
 _PROVENANCE = ("case_id", "generator", "params", "transform", "dim", "n_points", "size", "seed", "source")
 _CONFIG = ("algorithm", "origin", "sphere", "eps", "config")
 _OUTCOME = ("status", "stage", "sphere_method", "reason", "seconds", "check_seconds", "eps_value", "degenerate",
-            "invalid_input")
+            "invalid_input", "call_output")
 
 #: Column order of every results table.
 ROW_COLUMNS = _PROVENANCE + _CONFIG + _OUTCOME + VERDICT_COLUMNS
@@ -83,6 +83,7 @@ def make_row(
     invalid_input: str | None = None,
     verdict: Verdict | None = None,
     origin: str | None = None,
+    call_output: str = "",
 ) -> ResultRow:
     """Assemble a :class:`ResultRow` from its parts.
 
@@ -104,6 +105,9 @@ def make_row(
         One line: the exception, the contract violation, the failed checks, the signal.
     verdict : Verdict, optional
         The checker's verdict; its columns are missing values when absent.
+    call_output : str
+        What the call wrote on stdout and stderr (a library's warnings, a
+        program's messages), its tail, captured by the runner.
     """
     if status not in STATUSES:
         raise ValueError(f"status must be one of {STATUSES}, got {status!r}")
@@ -137,6 +141,7 @@ def make_row(
         "eps_value": eps_value,
         "degenerate": degenerate,
         "invalid_input": invalid_input or "",
+        "call_output": call_output,
     }
     values.update(verdict.as_row() if verdict is not None else empty_verdict_row())
     return ResultRow(values)
@@ -161,6 +166,6 @@ def to_frame(rows: Iterable[ResultRow]) -> pd.DataFrame:
     for col in ("seconds", "check_seconds", "eps_value", "max_violation", "distround", "volume", "qhull_volume"):
         df[col] = pd.to_numeric(df[col], errors="coerce").astype("float64")
     for col in ("qhull_agreement", "failed_checks", "severity", "qhull_options", "offending", "reason",
-                "invalid_input", "transform", "stage", "sphere_method"):
+                "invalid_input", "transform", "stage", "sphere_method", "call_output"):
         df[col] = df[col].astype("string")
     return df

@@ -33,11 +33,14 @@ import pandas as pd
 from ._registry import GeneratorSpec, algorithms, get_algorithm, get_generator, generators
 from .case import Case, canonical_params
 from .config import AlgorithmConfig, expand_configs
-from .options import DEFAULTS, Profile, get_profile
+from .errors import UsageError
+from .options import DEFAULTS, Profile, case_memory_bytes, get_profile, memory_ceiling_bytes
+from .rbox import RBOX_SEED_MODULUS, is_rbox_spec, parse_rbox_spec, rbox_count, rbox_points
 from .results import ResultRow, to_frame
 from .runner import ExecutionStats, RunnerOptions, Task, execute
 
-__all__ = ["SweepOptions", "SweepResult", "build_cases", "build_tasks", "case_seed", "run_sweep", "sort_table"]
+__all__ = ["SweepOptions", "SweepResult", "build_cases", "build_tasks", "case_seed", "check_sizes", "run_sweep",
+           "sort_table"]
 
 
 @dataclass(frozen=True)
@@ -63,6 +66,8 @@ class SweepOptions:
     memory_limit_mb: float | None = DEFAULTS.memory_limit_mb
     #: Metamorphic transforms (generators.transforms.TRANSFORMS): each adds a transformed copy of every case.
     transforms: tuple[str, ...] = ()
+    #: Qhull options tried first for the reference hull (None: scipy's default, then the fallbacks).
+    qhull_options: str | None = None
 
     @property
     def profile_spec(self) -> Profile:
@@ -72,7 +77,8 @@ class SweepOptions:
         workers = self.workers if self.workers is not None else (os.cpu_count() or 1)
         timeout = self.timeout if self.timeout is not None else self.profile_spec.timeout
         return RunnerOptions(workers=workers, timeout=timeout, time_budget=self.time_budget, qhull=self.qhull,
-                             scheduler=self.scheduler, memory_limit_mb=self.memory_limit_mb)
+                             scheduler=self.scheduler, memory_limit_mb=self.memory_limit_mb,
+                             qhull_options=self.qhull_options)
 
 
 @dataclass
@@ -111,6 +117,8 @@ def _selected_families(options: SweepOptions) -> list[tuple[GeneratorSpec, tuple
 
     out: dict[str, tuple[GeneratorSpec, list[dict]]] = {}
     for text in dict.fromkeys(options.generators):
+        if is_rbox_spec(text):
+            continue  # rbox:'...' specs are Qhull's generator, handled by _rbox_cases
         name, params = parse_spec(text)
         spec = get_generator(name)
         runs = [{**spec.defaults, **params}] if params else [{**spec.defaults, **v} for v in spec.variants]
@@ -142,6 +150,45 @@ def _transformed(case: Case, name: str) -> Case:
     moved = apply_transforms(case.points, name, seed=case.seed)
     return Case(points=moved.points, dim=case.dim, family=case.family,
                 params={**case.params, "transform": name}, seed=case.seed, size=case.size, source=case.source)
+
+
+def check_sizes(options: SweepOptions, dims: Sequence[int] = (2, 3)) -> None:
+    """Refuse, before anything is allocated, sizes whose cases would not fit in memory.
+
+    Raises
+    ------
+    UsageError
+        Naming the size, the estimate and the limit it exceeds.
+    """
+    ceiling, what = memory_ceiling_bytes(options.memory_limit_mb)
+    if ceiling is None:
+        return
+    wanted = [(n, d, f"--sizes {n}") for d in dims for n in _sizes_for(options, d)]
+    for spec in options.generators:
+        if is_rbox_spec(spec):
+            n = rbox_count(parse_rbox_spec(spec))
+            if n is not None:
+                wanted.append((n, 3, f"--generator {spec!r}"))
+    for n, dim, where in wanted:
+        need = case_memory_bytes(n, dim)
+        if need > ceiling:
+            raise UsageError(
+                f"{where}: a case of {n} {dim}D points needs about {need / 2**30:.3g} GiB while it is generated, "
+                f"hulled and checked ({DEFAULTS.case_bytes_per_coordinate} bytes per coordinate), more than "
+                f"{what}; use smaller sizes or a larger --memory-limit")
+
+
+def _rbox_cases(options: SweepOptions) -> list[Case]:
+    """One case per replicate of every ``rbox:ARGS`` generator, seeded from the base seed."""
+    cases = []
+    for spec in dict.fromkeys(g for g in options.generators if is_rbox_spec(g)):
+        args = parse_rbox_spec(spec)
+        for rep in range(options.profile_spec.replicates):
+            seed = case_seed(options.seed, "rbox", args, 0, None, rep) % RBOX_SEED_MODULUS
+            pts = rbox_points(args, seed)
+            cases.append(Case(points=pts, dim=pts.shape[1], family="rbox", params={"args": args}, seed=seed,
+                              size=len(pts), source=f"rbox {args} t{seed}"))
+    return cases
 
 
 def build_cases(options: SweepOptions, dims: Sequence[int] = (2, 3)) -> tuple[list[Case], list[str]]:
@@ -187,6 +234,7 @@ def build_cases(options: SweepOptions, dims: Sequence[int] = (2, 3)) -> tuple[li
                         refused = []  # a fall-back size worked: the refusals are not worth reporting
                         break
                 skipped.extend(refused)
+    cases.extend(_rbox_cases(options))
     for path in dict.fromkeys(options.points_files):
         pts = read_points(path)
         cases.append(Case.from_points(pts, family="file", params={"file": os.path.basename(path)}, source=str(path)))
@@ -232,6 +280,7 @@ def build_tasks(options: SweepOptions) -> tuple[list[Task], list[Case], dict[int
     configs = {d: expand_configs([s for s in specs if s.dim == d], sphere=options.sphere, eps=options.eps)
                for d in (2, 3)}
     dims = [d for d in (2, 3) if configs[d]]
+    check_sizes(options, dims)
     cases, skipped = build_cases(options, dims=dims)
     for case in cases:
         if case.dim not in dims:

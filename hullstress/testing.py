@@ -44,6 +44,7 @@ def _as_points(points: Any) -> np.ndarray:
 
 
 def _normalize(points: np.ndarray, faces: Any, label: str) -> np.ndarray | FaceSet:
+    __tracebackhide__ = True
     try:
         return normalize_output(faces, len(points), points.shape[1])
     except ContractViolation as exc:
@@ -162,6 +163,7 @@ def assert_valid_hull(
     ...
     AssertionError: not a valid convex hull of 4 points in 2D: failed ...
     """
+    __tracebackhide__ = True  # pytest shows the caller's line, not this helper's internals
     from .checker import check  # imported here so that importing this module stays cheap
 
     pts = _as_points(points)
@@ -257,6 +259,7 @@ def assert_same_hull(
     ...
     AssertionError: not the same hull: b is not a valid hull...
     """
+    __tracebackhide__ = True  # pytest shows the caller's line, not this helper's internals
     from .checker import check
 
     pts = _as_points(points)

@@ -2,6 +2,9 @@
 
 Each adapter module registers its algorithms when it is imported, and it is
 imported only when its library imports: the libraries are optional extras.
+Importing this package loads none of them; :func:`register_all` (called when
+the registry first loads its built-ins) does, so that the light
+:mod:`.executable` adapter can be imported by a plug-in without SciPy.
 A library that is not installed means "not registered"; that is not an error,
 but it is recorded, and :func:`missing_adapters` says why, so that
 ``hullstress list`` can show what is absent and how to install it.
@@ -14,6 +17,8 @@ scipy-qhull    :mod:`.scipy_qhull`        Qhull through ``scipy.spatial.ConvexHu
 shapely-geos   :mod:`.shapely_geos`       GEOS ``convex_hull`` through shapely, 2D
 cgal           :mod:`.cgal_hull`          CGAL's 2D and 3D hulls through the ``cgal``
                                           SWIG bindings
+executable     :mod:`.executable`         any program reading Qhull-format points on
+                                          stdin (``--exec``, ``register_executable``)
 =============  =========================  ===========================================
 """
 
@@ -24,7 +29,7 @@ from dataclasses import dataclass
 
 from ..errors import one_line
 
-__all__ = ["available_adapters", "missing_adapters"]
+__all__ = ["available_adapters", "missing_adapters", "register_all"]
 
 
 @dataclass(frozen=True)
@@ -62,13 +67,21 @@ def _probe(adapter: _Adapter) -> tuple[tuple[str, ...], str | None]:
 
 _AVAILABLE: dict[str, tuple[str, ...]] = {}
 _MISSING: dict[str, str] = {}
-for _adapter in _ADAPTERS:
-    _names, _reason = _probe(_adapter)
-    if _reason is None:
-        _AVAILABLE[_adapter.family] = _names
-    else:
-        _MISSING[_adapter.family] = _reason
-del _adapter, _names, _reason
+_probed = False
+
+
+def register_all() -> None:
+    """Import every library adapter whose library imports (once); record why the others are absent."""
+    global _probed
+    if _probed:
+        return
+    _probed = True
+    for adapter in _ADAPTERS:
+        names, reason = _probe(adapter)
+        if reason is None:
+            _AVAILABLE[adapter.family] = names
+        else:
+            _MISSING[adapter.family] = reason
 
 
 def available_adapters() -> dict[str, tuple[str, ...]]:
@@ -84,6 +97,7 @@ def available_adapters() -> dict[str, tuple[str, ...]]:
     >>> "scipy-qhull" in available_adapters()
     True
     """
+    register_all()
     return dict(_AVAILABLE)
 
 
@@ -101,4 +115,5 @@ def missing_adapters() -> dict[str, str]:
     >>> isinstance(missing_adapters(), dict)
     True
     """
+    register_all()
     return dict(_MISSING)

@@ -48,6 +48,7 @@ Examples
 
 from __future__ import annotations
 
+import math
 from collections import deque
 
 import numpy as np
@@ -196,6 +197,12 @@ def orient_simplices(
     if m == 0:
         return tri
     pts = np.asarray(points, dtype=np.float64)
+    # An exact power-of-two scaling (signs unchanged) so the largest coordinate lies in [0.5, 1):
+    # at 1e-300 every edge cross product underflows to 0 (and overflows near 1e300), which left
+    # the seed triangle unoriented and half such hulls inside out.
+    finite = np.abs(pts[np.isfinite(pts)])
+    if finite.size and finite.max() > 0:
+        pts = np.ldexp(pts, -math.frexp(float(finite.max()))[1])
     a, b, c = pts[tri[:, 0]], pts[tri[:, 1]], pts[tri[:, 2]]
     cross = np.cross(b - a, c - a)
     normals = np.asarray(normals, dtype=np.float64)

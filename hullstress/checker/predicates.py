@@ -456,10 +456,6 @@ def _int_det2(ax, ay, bx, by, cx, cy):
     return (ax - cx) * (by - cy) - (ay - cy) * (bx - cx)
 
 
-def _int_det2(ax, ay, bx, by, cx, cy):
-    return (ax - cx) * (by - cy) - (ay - cy) * (bx - cx)
-
-
 _STAGES2 = (_exact_eval2, _dd_eval2, _int_det2)
 
 

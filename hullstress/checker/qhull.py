@@ -202,9 +202,9 @@ def _first_line(exc: BaseException) -> str:
     return type(exc).__name__
 
 
-def _run_qhull(points: np.ndarray) -> tuple[ConvexHull | None, str | None, tuple[str, ...]]:
+def _run_qhull(points: np.ndarray, first: str | None = None) -> tuple[ConvexHull | None, str | None, tuple[str, ...]]:
     attempts = []
-    for opts in ("",) + RETRY_OPTIONS:
+    for opts in ((first,) if first else ("",)) + RETRY_OPTIONS:
         label = options_label(opts)
         try:
             with warnings.catch_warnings():
@@ -307,12 +307,15 @@ def _summary(cert: Certificate) -> str:
     return " | ".join(parts)
 
 
-def qhull_reference(points: np.ndarray) -> QhullReference:
+def qhull_reference(points: np.ndarray, *, options: str | None = None) -> QhullReference:
     """Compute Qhull's hull of ``points`` once, with its options, health and exact extremes.
 
     Parameters
     ----------
     points : array_like of shape (n, 2) or (n, 3)
+    options : str, optional
+        Qhull options tried first instead of scipy's default (``--qhull-options``);
+        the usual fallbacks follow if Qhull raises.
 
     Returns
     -------
@@ -360,7 +363,7 @@ def qhull_reference(points: np.ndarray) -> QhullReference:
             with np.errstate(under="ignore"):
                 qhull_input = np.ldexp(pts, k)
             note = f" (on input scaled by 2^{k}, rounded)"
-    hull, options, attempts = _run_qhull(qhull_input)
+    hull, options, attempts = _run_qhull(qhull_input, options)
     if options is not None:
         options += note
     if hull is None:

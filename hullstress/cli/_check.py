@@ -1,10 +1,14 @@
 """``python -m hullstress check POINTS FACES``: certify a hull produced by any program.
 
-Reads the points (``.npy``, ``.csv``, ``.xyz``, ``.off``, Qhull/rbox text) and
-the faces (``.npy``, ``.csv``, ``.off``, Qhull's ``i`` output), runs the exact
-checker and prints a short verdict (or JSON with ``--json``).  Exit status 0
-when the hull is valid, 1 when a check fails, 2 for unreadable or malformed
-input (a :class:`~hullstress.errors.UsageError`, reported by ``main``).
+Reads the points (``.npy``, ``.csv``, ``.xyz``, ``.off``, Qhull/rbox text;
+``-`` for stdin) and the faces (``.npy``, ``.csv``, ``.off``, Qhull's ``i`` or
+``Fx`` output; ``--faces-format`` names the format instead of guessing it),
+runs the exact checker and prints a short verdict (or JSON with ``--json``).
+Exit status 0 when the hull is valid, 1 when a check fails, 2 for unreadable
+or malformed input (a :class:`~hullstress.errors.UsageError`, reported by ``main``).
+
+``qconvex i < points.txt > hull.i; python -m hullstress check points.txt hull.i --clockwise``
+certifies Qhull's own output (its 3D ``i`` facets are clockwise seen from outside).
 """
 
 from __future__ import annotations
@@ -13,11 +17,17 @@ import argparse
 import json
 import math
 
-from ..errors import ContractViolation, InputFileError
-from ..io import read_faces, read_points
+from ..errors import ContractViolation, InputFileError, UsageError
+from ..io import STDIN, read_faces, read_points
+from ..qhull_format import HULL_FORMATS
 from ..verdict import AGREE, DISAGREE, QHULL_WRONG
+from . import EXIT_STATUS_HELP
+from ._common import count
 
 __all__ = ["add_parser", "run_check"]
+
+#: ``--faces-format`` values: guess from the file, or one of Qhull's output formats.
+FACES_FORMATS = ("auto",) + HULL_FORMATS
 
 
 def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -28,13 +38,19 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
         description=(
             "Certify a convex hull with exact predicates: containment, convexity, manifoldness, "
             "and agreement with Qhull. Points: .npy, .csv, .xyz, .off or Qhull/rbox text. "
-            "Faces: .npy, .csv, .off or Qhull 'i' output (2D: one row of vertex indices, "
-            "counter-clockwise, or directed edges)."
+            "Faces: .npy, .csv, .off or Qhull 'i' / 'Fx' output (2D: one row of vertex indices, "
+            "counter-clockwise, or directed edges). Either file may be '-' (stdin), e.g. "
+            "rbox 100 D3 | tee pts.txt | qconvex i | python -m hullstress check pts.txt - --clockwise."
         ),
-        epilog="Exit status: 0 valid hull, 1 a check failed, 2 unreadable or malformed input.",
+        epilog="0 means a valid hull, 1 a failed check. " + EXIT_STATUS_HELP,
     )
-    parser.add_argument("points", metavar="POINTS", help="points file")
-    parser.add_argument("faces", metavar="FACES", help="faces file (3D faces counter-clockwise seen from outside)")
+    parser.add_argument("points", metavar="POINTS", help="points file ('-' reads stdin)")
+    parser.add_argument("faces", metavar="FACES",
+                        help="faces file ('-' reads stdin; 3D faces counter-clockwise seen from outside)")
+    parser.add_argument("--faces-format", choices=FACES_FORMATS, default="auto",
+                        help="how FACES is written: auto (guess from the name and content, default), i (Qhull's "
+                        "facet indices; 2D: edges), Fx (Qhull's 2D extreme points, counter-clockwise) or off "
+                        "(OFF, vertices matched to the points)")
     parser.add_argument("--dim", type=int, choices=(2, 3), default=None, help="expected dimension of the points")
     parser.add_argument(
         "--clockwise",
@@ -44,8 +60,11 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     )
     parser.add_argument("--json", action="store_true", help="print the verdict as one JSON object")
     parser.add_argument("--no-qhull", action="store_true", help="skip the comparison with Qhull")
+    parser.add_argument("--qhull-options", default=None, metavar="OPTIONS",
+                        help="Qhull options for the reference hull (tried first, then the usual fallbacks)")
     parser.add_argument(
-        "--max-offending", type=int, default=20, metavar="N", help="list at most N offending indices per kind (default 20)"
+        "--max-offending", type=count(minimum=0), default=20, metavar="N",
+        help="list at most N offending indices per kind (default 20)"
     )
     parser.set_defaults(handler=run_check)
     return parser
@@ -65,15 +84,22 @@ def run_check(args: argparse.Namespace) -> int:
     InputFileError
         Unreadable points or faces, or faces that break the output contract.
     """
-    from ..checker import check  # imported here: `python -m hullstress list` need not load scipy
+    from ..checker import check, qhull_reference  # imported here: `python -m hullstress list` need not load scipy
+    from ..qhull_format import check_qhull_options
 
+    if args.points == STDIN and args.faces == STDIN:
+        raise UsageError("POINTS and FACES cannot both be '-': standard input holds one file")
+    check_qhull_options(args.qhull_options)
     points = read_points(args.points, dim=args.dim)
     dim = points.shape[1]
-    faces = read_faces(args.faces, dim=dim)
+    faces = _read_faces(args.faces, args.faces_format, points)
     if args.clockwise:
         faces = [f[::-1] for f in faces] if dim == 3 else list(faces)[::-1]
+    reference = None
+    if args.qhull_options and not args.no_qhull:
+        reference = qhull_reference(points, options=args.qhull_options)
     try:
-        verdict = check(points, faces, qhull=not args.no_qhull, max_offending=max(0, args.max_offending))
+        verdict = check(points, faces, reference=reference, qhull=not args.no_qhull, max_offending=args.max_offending)
     except ContractViolation as exc:
         raise InputFileError(f"faces file '{args.faces}': {exc}") from None
     if args.json:
@@ -85,6 +111,25 @@ def run_check(args: argparse.Namespace) -> int:
     else:
         _print_human(verdict, dim)
     return 0 if verdict.ok else 1
+
+
+def _read_faces(path: str, faces_format: str, points):
+    """The faces file in ``faces_format`` (``auto``: :func:`hullstress.io.read_faces`'s guess)."""
+    if faces_format == "auto":
+        return read_faces(path, dim=points.shape[1])
+    import sys
+    from pathlib import Path
+
+    from ..qhull_format import parse_hull
+
+    try:
+        text = sys.stdin.read() if path == STDIN else Path(path).read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputFileError(f"faces file '{path}' cannot be read: {getattr(exc, 'strerror', None) or exc}") from None
+    try:
+        return parse_hull(text, faces_format, points)
+    except ContractViolation as exc:
+        raise InputFileError(f"faces file '{path}' (--faces-format {faces_format}): {exc}") from None
 
 
 def _print_human(verdict, dim: int) -> None:

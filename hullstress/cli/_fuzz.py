@@ -1,7 +1,7 @@
 """``python -m hullstress fuzz``: Hypothesis-driven search for failures of one algorithm config.
 
 Exit status: 1 when a failure was found (failure folders written), 0 when
-none was, 2 for bad arguments.
+none was, 2 for bad arguments, 130/143 when interrupted.
 """
 
 from __future__ import annotations
@@ -11,6 +11,9 @@ import json
 import sys
 import time
 from pathlib import Path
+
+from . import EXIT_STATUS_HELP
+from ._common import add_registration_options, count, seconds
 
 __all__ = ["add_parser", "fuzz_command"]
 
@@ -22,7 +25,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
         description="Draw cases from the generator families with Hypothesis (family, variant, size, seed, "
         "coordinate rounding, power-of-two scale), steer toward larger violations with target(), shrink "
         "what fails (Hypothesis, then ddmin over points) and write failure folders. "
-        "Exit status: 1 a failure was found, 0 none, 2 bad arguments.",
+        "1 means a failure was found, 0 none. " + EXIT_STATUS_HELP,
     )
     p.add_argument("--algorithm", required=True, metavar="NAME", help="the algorithm to fuzz")
     p.add_argument("--generator", action="append", default=[], metavar="NAME",
@@ -31,9 +34,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
     p.add_argument("--eps", choices=("scaled", "fixed"), default=None,
                    help="eps policy for algorithms taking eps (default: scaled for in-house algorithms, not passed "
                    "to plug-ins)")
-    p.add_argument("--max-examples", type=int, default=200, metavar="N",
+    p.add_argument("--max-examples", type=count(minimum=1), default=200, metavar="N",
                    help="Hypothesis examples per search (default 200)")
-    p.add_argument("--max-findings", type=int, default=3, metavar="N",
+    p.add_argument("--max-findings", type=count(minimum=1), default=3, metavar="N",
                    help="stop after this many distinct failed checks (default 3)")
     p.add_argument("--database", default=".hypothesis/hullstress-fuzz", metavar="DIR",
                    help="Hypothesis example database directory; failures found are replayed from it first "
@@ -41,37 +44,27 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
     p.add_argument("--seed", type=int, default=None,
                    help="seed Hypothesis's choices for a reproducible search (default: random; Hypothesis saves "
                    "failures to the database only from unseeded runs, seeded runs still replay it)")
-    p.add_argument("--max-size", type=int, default=64, metavar="N", help="largest point count drawn (default 64)")
-    p.add_argument("--timeout", type=float, default=None, metavar="SECONDS",
+    p.add_argument("--max-size", type=count(minimum=4), default=64, metavar="N",
+                   help="largest point count drawn (default 64)")
+    p.add_argument("--timeout", type=seconds(), default=None, metavar="SECONDS",
                    help="per-call timeout of isolated calls (default 10)")
-    p.add_argument("--shrink-budget", type=float, default=10.0, metavar="SECONDS",
+    p.add_argument("--shrink-budget", type=seconds(zero=True), default=10.0, metavar="SECONDS",
                    help="point-level shrink time per finding after Hypothesis's shrink (default 10; 0 skips)")
-    p.add_argument("--plugin", action="append", default=[], metavar="MODULE_OR_FILE",
-                   help="import a plug-in first (repeatable)")
+    add_registration_options(p)
     p.add_argument("--out", default="reports", metavar="DIR", help="where the fuzz folder goes (default: reports)")
     p.set_defaults(handler=fuzz_command)
 
 
 def fuzz_command(args: argparse.Namespace) -> int:
-    from ..errors import UsageError
     from ..files import atomic_write_text
-    from ..plugins import load_plugin
     from ..report.failures import write_failure_folder
     from ..report.writer import new_run_dir
     from ..triage.fuzzing import fuzz
     from ..triage.records import ShrinkResult
     from ..triage.stage import triage_one
 
-    for spec in args.plugin:
-        load_plugin(spec)
-    if args.max_examples < 1:
-        raise UsageError(f"--max-examples must be at least 1, got {args.max_examples}")
-    if args.max_findings < 1:
-        raise UsageError(f"--max-findings must be at least 1, got {args.max_findings}")
-    if args.max_size < 4:
-        raise UsageError(f"--max-size must be at least 4, got {args.max_size}")
-    if args.shrink_budget < 0:
-        raise UsageError(f"--shrink-budget must be 0 or more, got {args.shrink_budget}")
+    from ._common import registration_args
+
     database = None if str(args.database).lower() == "none" else Path(args.database)
     result = fuzz(
         args.algorithm, sphere=args.sphere, eps=args.eps, families=tuple(args.generator),
@@ -94,7 +87,7 @@ def fuzz_command(args: argparse.Namespace) -> int:
                                   calls=0, seconds=0.0, reproduced=True, row=finding.row,
                                   note="Hypothesis's minimal example (no point-level shrink)")
         rec = write_failure_folder(run_dir / "failures", triage_one(shrunk, result.config, timeout=args.timeout),
-                                   plugins=args.plugin, timeout=args.timeout)
+                                   timeout=args.timeout, registration=registration_args(args))
         print(f"  {finding.signature.label}: {finding.case.n_points} -> {rec.minimal_size} points; "
               f"{finding.row.get('reason')}")
         print(f"    reproduce: {rec.command}")

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 
 from ..verdict import CHECKS
+from ._common import add_registration_options
 
 __all__ = ["add_parser", "list_command", "render"]
 
@@ -15,8 +16,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
     p = sub.add_parser("list", help="list algorithms, variants, generators and checks",
                        description="List what is registered. Plug-ins given with --plugin are included.")
     p.add_argument("what", nargs="?", choices=WHAT, default=None, help="one section only (default: all)")
-    p.add_argument("--plugin", action="append", default=[], metavar="MODULE_OR_FILE",
-                   help="import a plug-in first (repeatable)")
+    add_registration_options(p, clockwise=False)
     p.set_defaults(handler=list_command)
 
 
@@ -95,9 +95,5 @@ def render(what: str | None) -> str:
 
 
 def list_command(args: argparse.Namespace) -> int:
-    from ..plugins import load_plugin
-
-    for spec in args.plugin:
-        load_plugin(spec)
     print(render(args.what))
     return 0

@@ -7,6 +7,8 @@ import sys
 
 from ..corpus.store import DEFAULT_CORPUS
 from ..errors import UsageError
+from . import EXIT_NO_WORK, EXIT_STATUS_HELP
+from ._common import add_registration_options, count, seconds
 
 __all__ = ["add_parser", "replay_command"]
 
@@ -18,16 +20,18 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
         description="Replay every corpus entry against every algorithm config of its dimension and report, "
         "per entry: still failing as recorded, fixed, changed (fails differently), new failure. "
         "Exit status: 1 if any entry changed or newly fails (a regression); otherwise 2 if a corpus "
-        "file could not be read (the others still replay); otherwise 0.",
+        "file could not be read (the others still replay); otherwise 5 if nothing was replayed (an empty "
+        "corpus, or no algorithm of its dimensions); otherwise 0. " + EXIT_STATUS_HELP,
     )
     p.add_argument("corpus", nargs="?", default=str(DEFAULT_CORPUS), metavar="DIR",
                    help=f"corpus folder or one corpus file (default: {DEFAULT_CORPUS})")
     p.add_argument("--algorithm", action="append", default=[], metavar="NAME", help="replay only this algorithm (repeatable)")
-    p.add_argument("--plugin", action="append", default=[], metavar="MODULE_OR_FILE", help="import a plug-in first (repeatable)")
+    add_registration_options(p)
     p.add_argument("--accept", action="store_true",
                    help="record the current verdicts as the new expectations (after a fix)")
-    p.add_argument("--workers", type=int, default=None, metavar="N", help="worker processes (default: all cores; 0 in-process)")
-    p.add_argument("--timeout", type=float, default=10.0, metavar="SECONDS", help="per-call timeout (default 10)")
+    p.add_argument("--workers", type=count(minimum=0), default=None, metavar="N",
+                   help="worker processes (default: all cores; 0 in-process)")
+    p.add_argument("--timeout", type=seconds(), default=10.0, metavar="SECONDS", help="per-call timeout (default 10)")
     p.add_argument("--verbose", action="store_true", help="list every (entry, config) outcome, not only the changes")
     p.set_defaults(handler=replay_command)
 
@@ -35,15 +39,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
 def replay_command(args: argparse.Namespace) -> int:
     import os
 
-    from ..plugins import load_plugin
     from ..corpus.replay import REGRESSIONS, replay_corpus
 
-    for spec in args.plugin:
-        load_plugin(spec)
-    if args.workers is not None and args.workers < 0:
-        raise UsageError(f"--workers must be 0 or more, got {args.workers}")
-    if not args.timeout > 0:
-        raise UsageError(f"--timeout must be positive, got {args.timeout}")
     if not os.path.exists(args.corpus):
         raise UsageError(f"corpus {args.corpus!r}: no such file or directory")
     workers = args.workers if args.workers is not None else (os.cpu_count() or 1)
@@ -69,4 +66,10 @@ def replay_command(args: argparse.Namespace) -> int:
         return 0
     if regress_entries:
         return 1
-    return 2 if result.errors else 0
+    if result.errors:
+        return 2
+    if not len(table):
+        print(f"hullstress: no work done: nothing to replay in {args.corpus!r} "
+              "(no corpus entry, or no selected algorithm of its entries' dimensions)", file=sys.stderr)
+        return EXIT_NO_WORK
+    return 0

@@ -3,35 +3,44 @@
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 from typing import Any
 
 from ..config import EPS_CHOICES, SPHERE_CHOICES
 from ..errors import UsageError
 from ..options import DEFAULTS, PROFILES
+from . import EXIT_NO_WORK, EXIT_STATUS_HELP
+from ._common import add_registration_options, count, mebibytes, registration_args, seconds
 
 __all__ = ["add_parser", "run_command", "parse_sizes"]
 
 
 def parse_sizes(text: str) -> tuple[int, ...]:
-    """``"20,100"`` -> ``(20, 100)``; every size a positive integer."""
+    """``"20,100"`` -> ``(20, 100)``; every size a positive integer (``1e4`` is read as 10000).
+
+    Examples
+    --------
+    >>> parse_sizes("24, 1e3")
+    (24, 1000)
+    """
     sizes = []
     for part in text.split(","):
         part = part.strip()
         try:
             value = int(part)
         except ValueError:
-            raise UsageError(f"--sizes must be comma-separated positive integers, got {text!r}") from None
+            try:
+                as_float = float(part)
+            except ValueError:
+                raise UsageError(f"--sizes must be comma-separated positive integers, got {text!r}") from None
+            if not (math.isfinite(as_float) and as_float.is_integer()):
+                raise UsageError(f"--sizes must be comma-separated positive integers, got {part!r} in {text!r}")
+            value = int(as_float)
         if value < 1:
             raise UsageError(f"--sizes must be positive, got {value} in {text!r}")
         sizes.append(value)
     return tuple(dict.fromkeys(sizes))
-
-
-def _positive(name: str, value: float | None) -> float | None:
-    if value is not None and not value > 0:
-        raise UsageError(f"{name} must be positive, got {value!r}")
-    return value
 
 
 def _transforms(names: list[str]) -> tuple[str, ...]:
@@ -43,20 +52,14 @@ def _transforms(names: list[str]) -> tuple[str, ...]:
     return tuple(dict.fromkeys(names))
 
 
-def _memory_limit(value: float) -> float:
-    if not value >= 0:
-        raise UsageError(f"--memory-limit must be 0 (no limit) or a positive number of MiB, got {value!r}")
-    return value
-
-
 def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     p = sub.add_parser(
         "run",
         help="run a sweep (the main job) and write a report folder",
         description="Generate hard point sets, run every selected hull algorithm config on them, "
         "certify each output and write reports/<run-id>/ (results.csv, summary.md, run.json). "
-        "Exit status: 0 nothing failed, 1 failures found, 2 bad arguments or input, 3 internal error, "
-        "130 interrupted (the partial report is written).",
+        "Algorithms are the built-ins, plug-ins (--plugin) and programs in any language (--exec). "
+        + EXIT_STATUS_HELP,
     )
     p.add_argument("--profile", choices=sorted(PROFILES), default="quick",
                    help="sweep size: quick (default, under a minute) or nightly (about 30 minutes on 2 cores)")
@@ -65,7 +68,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
     p.add_argument("--generator", action="append", default=[], metavar="NAME[:KEY=VALUE,...]",
                    help="use only this generator family, every variant; with parameters (e.g. "
                    "near-coplanar:surface=plane,delta=1e-12) exactly that one (repeatable; default: every "
-                   "family; see `list generators` for each family's parameters)")
+                   "family; see `list generators` for each family's parameters); rbox:'ARGS' runs Qhull's rbox with ARGS "
+                   "(e.g. rbox:'100 D3 s'), seeded from --seed")
     p.add_argument("--transform", action="append", default=[], metavar="NAME",
                    help="also run a metamorphic copy of every case that must have the same hull "
                    "(permute-rows, reverse-rows, scale-pow2, permute-axes, reflect, ...; repeatable); the "
@@ -78,27 +82,39 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
                    "(default: both for in-house algorithms; plug-ins keep their own tolerance, no eps is passed)")
     p.add_argument("--sizes", type=str, default=None, metavar="N[,N...]",
                    help="point counts to generate (default: the profile's)")
-    p.add_argument("--seed", type=int, default=0, help="base seed; same seed and arguments give the same table (default 0)")
-    p.add_argument("--workers", type=int, default=None, metavar="N",
+    p.add_argument("--seed", type=int, default=0,
+                   help="base seed; same seed and arguments give the same table (default 0)")
+    p.add_argument("--workers", type=count(minimum=0), default=None, metavar="N",
                    help="worker processes (default: all cores; 0 runs in this process without isolation)")
-    p.add_argument("--timeout", type=float, default=None, metavar="SECONDS",
+    p.add_argument("--timeout", type=seconds(), default=None, metavar="SECONDS",
                    help="per-call timeout (default: the profile's)")
-    p.add_argument("--time-budget", type=float, default=None, metavar="SECONDS",
+    p.add_argument("--time-budget", type=seconds(), default=None, metavar="SECONDS",
                    help="stop starting new calls after this long (each family's smallest case always runs); "
-                   "the report covers what ran and says what it did not reach")
-    p.add_argument("--memory-limit", type=float, default=DEFAULTS.memory_limit_mb, metavar="MB",
+                   "the report covers what ran and says what it did not reach (exit status 5 when not one call ran)")
+    p.add_argument("--memory-limit", type=mebibytes, default=DEFAULTS.memory_limit_mb, metavar="MB",
                    help="address-space limit per worker process in MiB; a runaway allocation becomes an "
-                   f"error or crash row (default {DEFAULTS.memory_limit_mb:g}; 0 for none)")
+                   f"error or crash row, and sizes whose cases would not fit are refused before anything "
+                   f"is generated (default {DEFAULTS.memory_limit_mb:g}; 0 for none)")
     p.add_argument("--scheduler", default=None, metavar="ADDRESS",
                    help="run on the Dask cluster at this scheduler address (e.g. tcp://host:8786) "
                    "instead of local worker processes; the table is the same as a local run's")
-    p.add_argument("--plugin", action="append", default=[], metavar="MODULE_OR_FILE",
-                   help="import a module or .py file that registers algorithms or generators (repeatable)")
+    add_registration_options(p)
     p.add_argument("--points-file", action="append", default=[], metavar="FILE",
-                   help="add a case from a points file (.npy, .csv, .xyz, Qhull text; repeatable); "
-                   "with files and no --generator only the files run")
+                   help="add a case from a points file (.npy, .csv, .xyz, Qhull/rbox text; '-' reads stdin, "
+                   "e.g. rbox 100 D3 | ... --points-file -; repeatable); with files and no --generator "
+                   "only the files run")
     p.add_argument("--out", default="reports", metavar="DIR", help="where the run folder goes (default: reports)")
     p.add_argument("--no-qhull", action="store_true", help="skip the Qhull agreement check")
+    p.add_argument("--qhull-options", default=None, metavar="OPTIONS",
+                   help="Qhull options for the reference hull the agreement check compares with (e.g. 'Qbb Qc "
+                   "Qz Q12'); tried first, then the usual fallbacks; the qhull_options column records which "
+                   "produced each reference")
+    last = p.add_mutually_exclusive_group()
+    last.add_argument("--last-failed", "--lf", action="store_true",
+                      help="run only the (case, config) calls that failed in the latest run in --out "
+                      "(everything when it has none)")
+    last.add_argument("--failed-first", "--ff", action="store_true",
+                      help="run the cases that failed in the latest run in --out first, then the rest")
     p.add_argument("--no-shrink", action="store_true",
                    help="do not minimise failing cases (failure folders hold the smallest failing case as found)")
     p.add_argument("--junit", default=None, metavar="FILE",
@@ -115,14 +131,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
 def run_command(args: argparse.Namespace) -> int:
     """Parse the options into :class:`~hullstress.pipeline.RunOptions`, run the pipeline, print its summary."""
     from ..pipeline import RunOptions, run
-    from ..plugins import load_plugin
     from ..progress import progress_enabled
     from ..sweep import SweepOptions
 
-    for spec in args.plugin:
-        load_plugin(spec)
-    if args.workers is not None and args.workers < 0:
-        raise UsageError(f"--workers must be 0 or more, got {args.workers}")
     sweep = SweepOptions(
         profile=args.profile,
         algorithms=tuple(args.algorithm),
@@ -134,15 +145,17 @@ def run_command(args: argparse.Namespace) -> int:
         seed=args.seed,
         points_files=tuple(args.points_file),
         workers=args.workers,
-        timeout=_positive("--timeout", args.timeout),
-        time_budget=_positive("--time-budget", args.time_budget),
+        timeout=args.timeout,
+        time_budget=args.time_budget,
         qhull=not args.no_qhull,
+        qhull_options=args.qhull_options,
         scheduler=args.scheduler,
-        memory_limit_mb=_memory_limit(args.memory_limit),
+        memory_limit_mb=args.memory_limit,
     )
     options = RunOptions(
         sweep=sweep, out=args.out, shrink=not args.no_shrink, junit=args.junit, baseline=args.baseline,
-        save_corpus=args.save_corpus, plugins=tuple(args.plugin),
+        save_corpus=args.save_corpus, plugins=tuple(args.plugin), registration=registration_args(args),
+        last_failed="only" if args.last_failed else "first" if args.failed_first else None,
         arguments={k: v for k, v in vars(args).items() if k != "handler"},
     )
     echo = None if args.quiet else (lambda line: print(line, file=sys.stderr, flush=True))
@@ -152,9 +165,15 @@ def run_command(args: argparse.Namespace) -> int:
 
 
 def _print_summary(the_run: Any, args: argparse.Namespace, *, quiet: bool) -> None:
-    """The terminal's last lines: failures by config, status counts, baseline, corpus, report path."""
+    """The terminal's last lines: failures by config, status counts, baseline, corpus, hints, report path.
+
+    Results go to stdout; what needs the user's attention (notes, hints, an
+    interrupt, a refused write, no work done) to stderr.
+    """
     from ..report.tables import failure_counts
 
+    for note in the_run.plan.notes:
+        print(f"note: {note}", file=sys.stderr)
     table = the_run.table
     counts = table["status"].value_counts()
     line = ", ".join(f"{counts.get(s, 0)} {s}" for s in ("pass", "fail", "rejected", "error", "timeout", "crash"))
@@ -177,10 +196,21 @@ def _print_summary(the_run: Any, args: argparse.Namespace, *, quiet: bool) -> No
         states = the_run.comparison["state"].value_counts()
         print(f"against baseline {args.baseline}: " + ", ".join(
             f"{states.get(k, 0)} {k} failure groups" for k in ("new", "still-failing", "fixed")))
-    if args.save_corpus and not the_run.interrupted:
+    if args.save_corpus and not the_run.interrupted and not the_run.environment_errors:
         written = sum(1 for _, w in the_run.corpus_saved if w)
         print(f"corpus: {written} new entries in {args.save_corpus} ({len(the_run.corpus_saved) - written} already there)")
-    if the_run.interrupted:
-        print(f"hullstress: interrupted ({'SIGTERM' if the_run.exit_status == 143 else 'SIGINT'}); "
-              "the report covers what finished", file=sys.stderr)
+    for hint in the_run.report.hints if the_run.report is not None else ():
+        print(f"hint: {hint}", file=sys.stderr)
     print(f"report: {the_run.run_dir}")
+    status = the_run.exit_status
+    if the_run.interrupted:
+        print(f"hullstress: interrupted ({'SIGTERM' if status == 143 else 'SIGINT'}); "
+              "the report covers what finished", file=sys.stderr)
+    elif the_run.environment_errors:
+        more = len(the_run.environment_errors) - 1
+        print(f"hullstress: error: {the_run.environment_errors[0]}"
+              + (f" (and {more} more writes refused)" if more > 0 else "")
+              + f"; what was written stays in {the_run.run_dir}", file=sys.stderr)
+    elif status == EXIT_NO_WORK:
+        print(f"hullstress: no work done: not one of {the_run.plan.n_calls} planned calls ran"
+              + (f" within --time-budget {args.time_budget:g} s" if args.time_budget else ""), file=sys.stderr)

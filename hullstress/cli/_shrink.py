@@ -1,7 +1,8 @@
 """``python -m hullstress shrink``: minimise one failing case from a points file.
 
 Exit status: 1 when the case fails (and, unless ``--no-shrink``, was shrunk
-and written); 0 when it does not fail; 2 for bad arguments or input.
+and written); 0 when it does not fail; 2 for bad arguments or input (an
+unknown ``--check`` lists the valid ones); 130/143 when interrupted.
 """
 
 from __future__ import annotations
@@ -15,6 +16,9 @@ import numpy as np
 
 from ..config import single_config
 from ..errors import UsageError
+from ..triage.signature import FAILED_CHECKS
+from . import EXIT_STATUS_HELP
+from ._common import add_registration_options, count, seconds
 
 __all__ = ["add_parser", "shrink_command"]
 
@@ -26,20 +30,21 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
         description="Run one algorithm config on a points file; if it fails, shrink the points to a small "
         "set that fails the same way (ddmin over points, then fewer mantissa bits and power-of-two scaling) "
         "and write a failure folder with the minimal case, picture and reproduce command. "
-        "Exit status: 1 the case fails (and was shrunk), 0 it does not fail, 2 bad arguments or input.",
+        "1 means the case fails (and was shrunk), 0 that it does not fail. " + EXIT_STATUS_HELP,
     )
-    p.add_argument("points_file", metavar="POINTS_FILE", help="the failing case (.npy, .csv, .xyz, Qhull text)")
+    p.add_argument("points_file", metavar="POINTS_FILE",
+                   help="the failing case (.npy, .csv, .xyz, Qhull/rbox text; '-' reads stdin)")
     p.add_argument("--algorithm", required=True, metavar="NAME", help="the algorithm (see `list algorithms`)")
     p.add_argument("--sphere", choices=("off", "on"), default="off", help="sphere projection first (default off)")
     p.add_argument("--eps", choices=("scaled", "fixed"), default=None,
                    help="eps policy for algorithms taking eps (default: scaled for in-house algorithms, not passed "
                    "to plug-ins; ignored for algorithms without eps)")
     p.add_argument("--check", default=None, metavar="CHECK",
-                   help="keep this failure (a check name, contract, error, timeout, crash); default: the "
-                   "case's current failure")
-    p.add_argument("--budget", type=float, default=30.0, metavar="SECONDS", help="shrink time budget (default 30)")
-    p.add_argument("--max-calls", type=int, default=5000, metavar="N", help="cap on judged calls (default 5000)")
-    p.add_argument("--timeout", type=float, default=None, metavar="SECONDS",
+                   help="keep this failure: one of " + ", ".join(FAILED_CHECKS) + " (default: the case's current failure)")
+    p.add_argument("--budget", type=seconds(), default=30.0, metavar="SECONDS", help="shrink time budget (default 30)")
+    p.add_argument("--max-calls", type=count(minimum=1), default=5000, metavar="N",
+                   help="cap on judged calls (default 5000)")
+    p.add_argument("--timeout", type=seconds(), default=None, metavar="SECONDS",
                    help="per-call timeout of isolated calls (default 10)")
     p.add_argument("--no-shrink", action="store_true",
                    help="only run the case once and report; exit 1 if it fails (writes nothing)")
@@ -47,8 +52,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
                    help="load a .npy file as it is (non-finite values and odd shapes allowed, for bad-input cases)")
     p.add_argument("--dim", type=int, choices=(2, 3), default=None,
                    help="the case's dimension (default: the algorithm's)")
-    p.add_argument("--plugin", action="append", default=[], metavar="MODULE_OR_FILE",
-                   help="import a plug-in first (repeatable)")
+    add_registration_options(p)
     p.add_argument("--out", default="reports", metavar="DIR",
                    help="where the shrink folder goes (default: reports)")
     p.set_defaults(handler=shrink_command)
@@ -74,18 +78,15 @@ def _load(args: argparse.Namespace, dim: int):  # -> Case
 
 def shrink_command(args: argparse.Namespace) -> int:
     from .._registry import get_algorithm
-    from ..plugins import load_plugin
     from ..report.failures import write_failure_folder
     from ..triage.stage import triage_one
     from ..report.writer import new_run_dir
     from ..triage import run_config, shrink, signature_of
+    from ._common import registration_args
 
-    for spec in args.plugin:
-        load_plugin(spec)
-    if args.budget <= 0:
-        raise UsageError(f"--budget must be positive, got {args.budget!r}")
-    if args.max_calls < 1:
-        raise UsageError(f"--max-calls must be at least 1, got {args.max_calls!r}")
+    if args.check is not None and args.check not in FAILED_CHECKS:
+        raise UsageError(f"--check {args.check!r} is not a failure hullstress knows; valid checks: "
+                         + ", ".join(FAILED_CHECKS))
     spec = get_algorithm(args.algorithm)
     dim = args.dim if args.dim is not None else spec.dim
     if dim != spec.dim:
@@ -105,7 +106,7 @@ def shrink_command(args: argparse.Namespace) -> int:
     result = shrink(case, config, sig, budget_seconds=args.budget, max_calls=args.max_calls, timeout=args.timeout)
     run_dir = new_run_dir(args.out, f"shrink-{time.strftime('%Y%m%d-%H%M%S')}-{spec.name}")
     rec = write_failure_folder(run_dir / "failures", triage_one(result, config, timeout=args.timeout),
-                               plugins=args.plugin, timeout=args.timeout)
+                               timeout=args.timeout, registration=registration_args(args))
     state = "" if not result.exhausted else " (budget spent; may not be minimal)"
     print(f"shrunk {result.original_size} -> {result.minimal_size} points in {result.calls} calls, "
           f"{result.seconds:.1f} s{state}")

@@ -127,6 +127,7 @@ def reproduce_command(
     isolate: bool = False,
     raw_npy: bool = False,
     dim: int | None = None,
+    registration: Sequence[str] = (),
 ) -> str:
     """The one-line command that re-runs ``config`` on ``points_file`` and exits 1 if it fails.
 
@@ -148,6 +149,10 @@ def reproduce_command(
         which loads the ``.npy`` as it is.
     dim : int, optional
         The case's dimension (needed with ``raw_npy``).
+    registration : sequence of str
+        Command-line arguments that register what the algorithm needs
+        (``--plugin F``, ``--exec NAME=COMMAND``, ``--clockwise NAME``), appended as they are
+        (plug-in files made absolute).
 
     Examples
     --------
@@ -175,6 +180,8 @@ def reproduce_command(
         args += ["--out", out, "--no-shrink", "--quiet"]
     for spec in plugins:
         args += ["--plugin", _plugin_arg(spec)]
+    for option, value in zip(registration[::2], registration[1::2]):
+        args += [option, _plugin_arg(value) if option == "--plugin" else value]
     return shlex.join([python_command()] + args) if python_command() != "python" else "python " + shlex.join(args)
 
 
@@ -238,6 +245,7 @@ def write_failure_folder(
     plugins: Sequence[str] = (),
     timeout: float | None = None,
     picture: bool = True,
+    registration: Sequence[str] = (),
 ) -> FailureRecord:
     """Write ``root/<signature slug>/`` for one triaged failure group.
 
@@ -253,6 +261,8 @@ def write_failure_folder(
         Plug-in specs the algorithm needs (added to the reproduce command).
     timeout : float, optional
         The sweep's per-call timeout (for timeout signatures).
+    registration : sequence of str
+        Registration arguments for the reproduce command (see :func:`reproduce_command`).
     picture : bool
         Draw ``picture.png`` (or later, with :func:`draw_picture`).
 
@@ -271,7 +281,7 @@ def write_failure_folder(
     command = reproduce_command(
         readable if readable is not None else npy, config, plugins=plugins,
         timeout=timeout if sig.check == "timeout" else None, isolate=dangerous,
-        raw_npy=readable is None, dim=case.dim,
+        raw_npy=readable is None, dim=case.dim, registration=registration,
     )
     verified = record.verified
     verdict = _verdict(result.row)

@@ -67,18 +67,27 @@ def findings_table(table: pd.DataFrame) -> pd.DataFrame:
     >>> findings_table(t)[cols].iloc[0].tolist()
     [1.0, 0.0, 0.5, 0.5, 0.5, 0.5]
     """
-    records = []
-    if len(table):
-        for (family, algorithm), sub in table.groupby(["generator", "algorithm"], sort=True, observed=True):
-            on = sub[sub["sphere"] == "on"]
-            records.append({
-                "family": family, "algorithm": algorithm, "calls": len(sub), "rate": _rate(sub),
-                "sphere_off": _rate(sub[sub["sphere"] == "off"]), "sphere_on": _rate(on),
-                "sphere_method": _rate(on, Stage.PREPROCESS),
-                "sphere_end_to_end": _rate(on, Stage.ALGORITHM, Stage.PREPROCESS),
-                "eps_scaled": _rate(sub[sub["eps"] == "scaled"]), "eps_fixed": _rate(sub[sub["eps"] == "fixed"]),
-            })
-    return pd.DataFrame.from_records(records, columns=_COLUMNS)
+    if not len(table):
+        return pd.DataFrame(columns=_COLUMNS)
+    # Only the columns needed: slicing the whole (wide, string-heavy) table per group is slow.
+    algorithm_failed = failed_mask(table, Stage.ALGORITHM).to_numpy(dtype=float)
+    method_failed = failed_mask(table, Stage.PREPROCESS).to_numpy(dtype=float)
+    base = pd.DataFrame({
+        "family": table["generator"].astype(str).to_numpy(), "algorithm": table["algorithm"].astype(str).to_numpy(),
+        "sphere": table["sphere"].astype(str).to_numpy(), "eps": table["eps"].astype(str).to_numpy(),
+        "failed": algorithm_failed, "method": method_failed,
+        "end_to_end": ((algorithm_failed + method_failed) > 0).astype(float),
+    })
+    keys = ["family", "algorithm"]
+    groups = base.groupby(keys, sort=True)
+    out = pd.DataFrame({"calls": groups.size(), "rate": groups["failed"].mean()})
+    on = base[base["sphere"] == "on"].groupby(keys, sort=True)
+    out["sphere_method"] = on["method"].mean().reindex(out.index)
+    out["sphere_end_to_end"] = on["end_to_end"].mean().reindex(out.index)
+    for column, (field, value) in {"sphere_off": ("sphere", "off"), "sphere_on": ("sphere", "on"),
+                                   "eps_scaled": ("eps", "scaled"), "eps_fixed": ("eps", "fixed")}.items():
+        out[column] = base[base[field] == value].groupby(keys, sort=True)["failed"].mean().reindex(out.index)
+    return out.reset_index()[_COLUMNS].astype({"calls": int})
 
 
 def claim_families(families: list[str]) -> list[str]:

@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ..files import atomic_write_text, writable_folder
 from ..triage.signature import signature_of
 from .failures import FailureRecord
 from ..records import Stage
@@ -144,6 +145,5 @@ def _suite(root: ET.Element, name: str, sub: pd.DataFrame, stage: Stage,
 def write_junit(path: str | Path, table: pd.DataFrame, records: Sequence[FailureRecord]) -> Path:
     """Write :func:`junit_xml` to ``path`` (parent folders created); returns the path."""
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(junit_xml(table, records), encoding="utf-8")
-    return path
+    writable_folder(path.parent, "--junit")
+    return atomic_write_text(path, junit_xml(table, records))

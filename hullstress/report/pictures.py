@@ -30,6 +30,21 @@ _BAD = "#D62728"
 _GREY = "#8C8C8C"
 
 
+def preload_matplotlib() -> None:
+    """Import what drawing needs (matplotlib's Agg canvas and 3D axes); a no-op without matplotlib.
+
+    The pipeline runs this in a background thread during the sweep: the
+    import takes a second or more, which an interrupted run cannot spend in
+    its report.
+    """
+    try:
+        from matplotlib.backends.backend_agg import FigureCanvasAgg  # noqa: F401
+        from matplotlib.figure import Figure  # noqa: F401
+        from mpl_toolkits.mplot3d import Axes3D  # noqa: F401
+    except ImportError:
+        pass
+
+
 def split_offending(offending: Mapping[str, Sequence[int]] | None) -> tuple[set[int], set[int], set[int]]:
     """Offending point indices, face indices and polygon edge positions from a verdict's ``offending``.
 

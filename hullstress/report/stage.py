@@ -14,9 +14,10 @@ from __future__ import annotations
 import json
 import time
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass
+from contextlib import nullcontext
+from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, ContextManager
 
 import pandas as pd
 
@@ -25,6 +26,7 @@ from ..triage.grouping import FailureGroup, groups_frame
 from ..triage.records import TriageResult
 from .failures import FailureRecord, draw_picture, write_failure_folder
 from .findings import findings_markdown, findings_reading, findings_table
+from .hints import clockwise_hints
 from .html import render_html
 from .junit import write_junit
 from .tables import metamorphic_changes
@@ -47,6 +49,8 @@ class ReportFiles:
     html, summary, findings_csv, index : Path
     junit : Path or None
     seconds : float
+    hints : list of str
+        Remedies the table suggests (:mod:`hullstress.report.hints`), also in the notes.
     """
 
     records: list[FailureRecord]
@@ -58,6 +62,7 @@ class ReportFiles:
     index: Path
     junit: Path | None
     seconds: float
+    hints: list[str] = field(default_factory=list)
 
 
 def write_run_report(
@@ -74,6 +79,9 @@ def write_run_report(
     comparison: pd.DataFrame | None = None,
     baseline_label: str | None = None,
     should_stop: Callable[[], bool] | None = None,
+    registration: Sequence[str] = (),
+    tables_written: bool = False,
+    interruptible: Callable[[], ContextManager[Any]] | None = None,
 ) -> ReportFiles:
     """Write every file of the run folder from the run's records.
 
@@ -105,6 +113,16 @@ def write_run_report(
     should_stop : callable, optional
         Polled before each picture: when it returns True (an interrupt) the
         remaining groups get no picture and the report is finished at once.
+    registration : sequence of str
+        The run's ``--exec`` / ``--clockwise`` (and ``--plugin``) arguments,
+        repeated in the reproduce commands of the algorithms that need them.
+    tables_written : bool
+        ``results.csv`` / ``.parquet`` of this very table are on disk already
+        (the pipeline writes them right after the sweep): do not write them again.
+    interruptible : callable, optional
+        A context (the pipeline's) in which an interrupt raises at once:
+        each picture is drawn inside it, so a signal cuts the picture under
+        way short (it is skipped) instead of waiting for it.
 
     Returns
     -------
@@ -112,7 +130,7 @@ def write_run_report(
     """
     start = time.perf_counter()
     run_dir = Path(run_dir)
-    write_report(run_dir, table, meta)
+    write_report(run_dir, table, meta, tables=not tables_written)
     groups, notes = triage.groups, list(triage.notes)
     records: list[FailureRecord] = []
     picture_seconds = 0.0
@@ -120,15 +138,19 @@ def write_run_report(
     picture_failures: list[str] = []
     for triaged in triage.records:
         sig = triaged.signature
+        needs = _needs_registration(sig.algorithm)
         record = write_failure_folder(
-            run_dir / "failures", triaged, plugins=list(plugins) if _origin(sig.algorithm) == "plugin" else [],
-            timeout=timeout, picture=False,
+            run_dir / "failures", triaged, plugins=list(plugins) if needs and not registration else [],
+            timeout=timeout, picture=False, registration=registration if needs else (),
         )
         stop = should_stop is not None and should_stop()
         if pictures and picture_seconds < picture_budget and not stop:
             t0 = time.perf_counter()
             try:
-                record = draw_picture(record)
+                with interruptible() if interruptible is not None else nullcontext():
+                    record = draw_picture(record)
+            except KeyboardInterrupt:  # an interrupt cut this picture short; the rest follow without
+                no_picture += 1
             except Exception as exc:  # a picture is a nicety: never lose the report for it
                 picture_failures.append(f"{sig.slug}: {type(exc).__name__}: {exc}")
             picture_seconds += time.perf_counter() - t0
@@ -141,6 +163,8 @@ def write_run_report(
         notes.append(f"{no_picture} groups have no picture: the picture budget ({picture_budget:g} s) was spent"
                      " or the run was interrupted.")
 
+    hints = clockwise_hints(table)
+    notes += [f"Hint: {hint}." for hint in hints]
     unreached = meta.get("not_reached") or {}
     if unreached:
         notes.append("Not reached (the run ended early): " + ", ".join(
@@ -163,16 +187,19 @@ def write_run_report(
     atomic_write_text(html_path, render_html(table, meta, records, findings, notes=notes, groups=groups))
     junit = write_junit(junit_path, table, records) if junit_path is not None else None
     return ReportFiles(records=records, notes=notes, findings=findings, html=html_path, summary=summary,
-                       findings_csv=findings_csv, index=index, junit=junit, seconds=time.perf_counter() - start)
+                       findings_csv=findings_csv, index=index, junit=junit, seconds=time.perf_counter() - start,
+                       hints=hints)
 
 
-def _origin(algorithm: str) -> str:
+def _needs_registration(algorithm: str) -> bool:
+    """Whether the reproduce command must repeat the run's registration options for ``algorithm``."""
     from .._registry import ALGORITHMS
 
     try:
-        return ALGORITHMS.get(algorithm).origin
+        spec = ALGORITHMS.get(algorithm)
     except Exception:  # unknown here: keep the plug-ins in the command, to be safe
-        return "plugin"
+        return True
+    return spec.origin in ("plugin", "executable") or spec.clockwise
 
 
 def _write_index(run_dir: Path, records: Sequence[FailureRecord], groups: Sequence[FailureGroup]) -> Path:

@@ -8,6 +8,7 @@ replaces it when the run ends (also on Ctrl-C / SIGTERM, marked incomplete).
 from __future__ import annotations
 
 import csv
+import functools
 import io
 import json
 import os
@@ -21,12 +22,14 @@ from typing import Any
 
 import pandas as pd
 
-from ..errors import UsageError
-from ..files import atomic_write_text, atomic_write_with
+from ..errors import EnvironmentFailure, UsageError, is_environment_error
+from ..files import atomic_write_text, atomic_write_with, writable_folder
 from ..results import ROW_COLUMNS, ResultRow
+from .failures import python_command
 from .tables import failure_counts, status_counts
 
-__all__ = ["new_run_dir", "RowStream", "write_report", "package_versions"]
+__all__ = ["new_run_dir", "RowStream", "OutputLog", "write_report", "write_run_json", "package_versions",
+           "prepare_report"]
 
 
 def new_run_dir(out: str | os.PathLike[str], run_name: str) -> Path:
@@ -34,14 +37,15 @@ def new_run_dir(out: str | os.PathLike[str], run_name: str) -> Path:
 
     Raises
     ------
+    EnvironmentFailure
+        When the folder is read-only, not writable or on a full disk, naming ``out``.
     UsageError
-        When the folder cannot be created or written, naming ``out``.
+        When ``out`` cannot be a folder (a path through a file), naming it.
     """
-    base = Path(out)
+    base = writable_folder(out, "--out")
+    run_dir = base / run_name
+    k = 1
     try:
-        base.mkdir(parents=True, exist_ok=True)
-        run_dir = base / run_name
-        k = 1
         while True:
             try:
                 run_dir.mkdir()
@@ -49,11 +53,9 @@ def new_run_dir(out: str | os.PathLike[str], run_name: str) -> Path:
             except FileExistsError:
                 k += 1
                 run_dir = base / f"{run_name}-{k}"
-        probe = run_dir / ".write-test"
-        probe.write_text("ok")
-        probe.unlink()
     except OSError as exc:
-        raise UsageError(f"--out {str(out)!r}: cannot create a run folder there: {exc.strerror or exc}") from None
+        refused = EnvironmentFailure if is_environment_error(exc) else UsageError
+        raise refused(f"--out {str(out)!r}: cannot create a run folder there: {exc.strerror or exc}") from None
     return run_dir
 
 
@@ -62,33 +64,111 @@ class RowStream:
 
     def __init__(self, run_dir: Path) -> None:
         self.path = run_dir / "results.partial.csv"
-        self._fh = open(self.path, "w", newline="", encoding="utf-8")
-        self._writer = csv.DictWriter(self._fh, fieldnames=list(ROW_COLUMNS), extrasaction="ignore")
-        self._writer.writeheader()
-        self._fh.flush()
+        try:
+            self._fh = open(self.path, "w", newline="", encoding="utf-8")
+            self._writer = csv.DictWriter(self._fh, fieldnames=list(ROW_COLUMNS), extrasaction="ignore")
+            self._writer.writeheader()
+            self._fh.flush()
+        except OSError as exc:
+            raise self._refused(exc) from exc
         self.count = 0
 
     def __call__(self, row: ResultRow) -> None:
-        self._writer.writerow({k: ("" if v is None else v) for k, v in row.values.items()})
-        self._fh.flush()
+        """Append ``row``; a full disk raises :class:`EnvironmentFailure` naming the file."""
+        try:
+            self._writer.writerow({k: ("" if v is None else v) for k, v in row.values.items()})
+            self._fh.flush()
+        except OSError as exc:
+            raise self._refused(exc) from exc
         self.count += 1
+
+    def _refused(self, exc: OSError) -> Exception:
+        return EnvironmentFailure.writing(self.path, exc) if is_environment_error(exc) else exc
 
     def close(self, *, remove: bool) -> None:
         if not self._fh.closed:
-            self._fh.close()
+            try:
+                self._fh.close()
+            except OSError:
+                pass  # the flush of a full disk failed already, and was reported then
         if remove:
             self.path.unlink(missing_ok=True)
 
 
-def package_versions() -> dict[str, str]:
-    """Versions of hullstress, Python and the libraries that shape results."""
+@functools.lru_cache(maxsize=1)
+def _versions() -> tuple[tuple[str, str], ...]:
     out = {"python": platform.python_version()}
     for name in ("hullstress", "numpy", "scipy", "pandas", "hypothesis", "pyarrow", "matplotlib", "dask", "distributed", "shapely"):
         try:
             out[name] = version(name)
         except PackageNotFoundError:
             continue
-    return out
+    return tuple(out.items())
+
+
+class OutputLog:
+    """``calls.log``: what each call printed (its ``call_output``), appended as rows arrive.
+
+    The file is created with the first call that printed anything; a run whose
+    code under test printed nothing has none.
+    """
+
+    def __init__(self, run_dir: Path) -> None:
+        self.path = run_dir / "calls.log"
+        self._fh: Any = None
+
+    def __call__(self, row: ResultRow) -> None:
+        text = row.get("call_output") or ""
+        if not text:
+            return
+        try:
+            if self._fh is None:
+                self._fh = open(self.path, "a", encoding="utf-8")
+            self._fh.write(f"== {row['config']} on case {row['case_id']} ({row['generator']}): {row['status']}\n"
+                           f"{text}\n")
+            self._fh.flush()
+        except OSError as exc:
+            raise (EnvironmentFailure.writing(self.path, exc) if is_environment_error(exc) else exc) from exc
+
+    def close(self) -> None:
+        if self._fh is not None:
+            try:
+                self._fh.close()
+            except OSError:
+                pass
+
+
+def package_versions() -> dict[str, str]:
+    """Versions of hullstress, Python and the libraries that shape results (read once per process)."""
+    return dict(_versions())
+
+
+def prepare_report(*, pictures: bool = True) -> None:
+    """Load now what writing the report needs (Parquet, package versions, the plotting library).
+
+    The pipeline calls this before the sweep, so that the report of an
+    interrupted run is written within its promised two seconds instead of
+    paying for imports then; matplotlib (the slowest) loads in a background
+    thread while the sweep runs.
+    """
+    _versions()
+    _parquet_available()
+    python_command()
+    if pictures:
+        import threading
+
+        from .pictures import preload_matplotlib
+
+        threading.Thread(target=preload_matplotlib, name="hullstress-preload", daemon=True).start()
+
+
+@functools.lru_cache(maxsize=1)
+def _parquet_available() -> bool:
+    try:
+        import pyarrow.parquet  # noqa: F401  (pandas' writer imports it on first use)
+    except ImportError:
+        return False
+    return True
 
 
 def _markdown(df: pd.DataFrame) -> str:
@@ -126,8 +206,14 @@ def summary_markdown(df: pd.DataFrame, meta: Mapping[str, Any]) -> str:
     return buf.getvalue()
 
 
-def write_report(run_dir: Path, df: pd.DataFrame, meta: Mapping[str, Any]) -> dict[str, Path]:
+def write_report(run_dir: Path, df: pd.DataFrame, meta: Mapping[str, Any], *, tables: bool = True) -> dict[str, Path]:
     """Write the run's tables and metadata into ``run_dir``.
+
+    Parameters
+    ----------
+    tables : bool
+        Also (re)write ``results.csv`` and ``results.parquet``; False when
+        they are on disk already and only the summary and metadata changed.
 
     Returns
     -------
@@ -136,23 +222,23 @@ def write_report(run_dir: Path, df: pd.DataFrame, meta: Mapping[str, Any]) -> di
     """
     written: dict[str, Path] = {}
     csv_path = run_dir / "results.csv"
-    atomic_write_with(csv_path, lambda fh: df.to_csv(fh, index=False))
-    written["csv"] = csv_path
-    try:
-        import pyarrow  # noqa: F401
-    except ImportError:
-        pass
-    else:
+    if tables:
+        atomic_write_with(csv_path, lambda fh: df.to_csv(fh, index=False))
+        written["csv"] = csv_path
+    if tables and _parquet_available():
         pq_path = run_dir / "results.parquet"
-        df.to_parquet(pq_path, index=False)
+        atomic_write_with(pq_path, lambda fh: df.to_parquet(fh, index=False), binary=True)
         written["parquet"] = pq_path
     summary = run_dir / "summary.md"
     atomic_write_text(summary, summary_markdown(df, meta))
     written["summary"] = summary
-    meta_path = run_dir / "run.json"
-    atomic_write_text(meta_path, json.dumps(meta, indent=2, sort_keys=True, default=str) + "\n")
-    written["json"] = meta_path
+    written["json"] = write_run_json(run_dir, meta)
     return written
+
+
+def write_run_json(run_dir: Path, meta: Mapping[str, Any]) -> Path:
+    """Write ``run.json`` alone (e.g. to mark a run interrupted after its report)."""
+    return atomic_write_text(run_dir / "run.json", json.dumps(meta, indent=2, sort_keys=True, default=str) + "\n")
 
 
 def run_metadata(

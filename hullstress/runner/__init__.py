@@ -98,7 +98,8 @@ def execute(tasks: Sequence[Task], options: RunnerOptions, on_row: Callable[[Res
         run_serial(tasks, options, on_row, stats, deadline)
     else:
         settings = PoolSettings(timeout=options.timeout, check_timeout=options.effective_check_timeout,
-                                qhull=options.qhull, budget_deadline=deadline, refs=algorithm_refs(tasks))
+                                qhull=options.qhull, budget_deadline=deadline, refs=algorithm_refs(tasks),
+                                qhull_options=options.qhull_options)
         pool = WorkerPool(max(1, min(options.workers, len(tasks))), memory_limit_bytes=options.memory_limit_bytes)
         stats = ExecutionStats(backend="local", start_method=start_method(), workers=pool.size,
                                notes=_platform_notes(options))
@@ -143,6 +144,7 @@ def run_one(
     memory_limit_mb: float | None = DEFAULT_MEMORY_LIMIT_MB,
     qhull: bool = True,
     check_timeout: float | None = None,
+    qhull_options: str | None = None,
 ) -> ResultRow:
     """Run and judge one config on one case in an isolated worker process.
 
@@ -165,6 +167,8 @@ def run_one(
         Compute the Qhull reference when ``facts`` is not given.
     check_timeout : float, optional
         Limit on the checker; default ``max(60, 10 * timeout)``.
+    qhull_options : str, optional
+        Qhull options tried first for the reference hull (when ``facts`` is not given).
 
     Returns
     -------
@@ -183,7 +187,7 @@ def run_one(
                             check_timeout=check_timeout)
     task = Task(0, case, (config,))
     settings = PoolSettings(timeout=options.timeout, check_timeout=options.effective_check_timeout,
-                            qhull=qhull, refs=algorithm_refs([task]))
+                            qhull=qhull, refs=algorithm_refs([task]), qhull_options=qhull_options)
     rows: list[ResultRow] = []
     with _solo_lock:
         pool = _solo_pool(options.memory_limit_bytes)

@@ -122,7 +122,8 @@ def run_dask(
     assert options.scheduler is not None
     refs = algorithm_refs(list(tasks))
     settings = PoolSettings(timeout=options.timeout, check_timeout=options.effective_check_timeout,
-                            qhull=options.qhull, budget_deadline=budget_deadline, refs=refs)
+                            qhull=options.qhull, budget_deadline=budget_deadline, refs=refs,
+                            qhull_options=options.qhull_options)
     client = _connect(options.scheduler)
     futures: dict[Any, Task] = {}
     try:

@@ -20,6 +20,12 @@ path) or unpickles the spec.  As with any ``spawn``/``forkserver`` program, a
 script that runs a sweep must guard its entry point with
 ``if __name__ == "__main__":`` (workers import the main module).
 
+The fork server (and so every worker) starts with stdout and stderr on
+``/dev/null`` (:func:`_start_forkserver_quietly`): a worker's own messages are
+captured per call into its rows, and what a dying worker or a half-started
+one (an interrupt while it is forked) prints outside a call is noise for the
+terminal.  ``HULLSTRESS_DEBUG=1`` keeps them.
+
 Workers start with ``PYTHONHASHSEED=0`` (:data:`WORKER_ENV`): string hashing,
 and so the iteration order of sets of strings in the code under test, is the
 same in every worker, run and backend.
@@ -79,10 +85,37 @@ def _get_context() -> Any:
                 # Takes effect only if the fork server is not running yet;
                 # otherwise workers import what they need themselves (slower starts).
                 ctx.set_forkserver_preload(_PRELOAD)
+                _start_forkserver_quietly()
             else:
                 ctx = multiprocessing.get_context("spawn")
             _context = ctx
         return _context
+
+
+def _start_forkserver_quietly() -> None:
+    """Start the fork server now, with its stdout and stderr (which workers inherit) on /dev/null."""
+    if os.environ.get("HULLSTRESS_DEBUG"):
+        return
+    import sys
+    from multiprocessing import forkserver
+
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (AttributeError, ValueError, OSError):
+            pass
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    saved = [os.dup(1), os.dup(2)]
+    try:
+        os.dup2(devnull, 1)
+        os.dup2(devnull, 2)
+        with _worker_environment():
+            forkserver.ensure_running()
+    finally:
+        os.dup2(saved[0], 1)
+        os.dup2(saved[1], 2)
+        for fd in (devnull, *saved):
+            os.close(fd)
 
 
 #: Environment every worker process starts with (unless the user set these).
@@ -135,6 +168,8 @@ class PoolSettings:
     check_timeout : float
         Limit on each trusted step (facts, one check) and on a worker's silence between steps.
     qhull : bool
+    qhull_options : str or None
+        Qhull options tried first for the reference hull.
     budget_deadline : float or None
         ``time.time()`` after which no new call starts.
     refs : mapping of str to AlgorithmRef
@@ -146,6 +181,7 @@ class PoolSettings:
     qhull: bool = True
     budget_deadline: float | None = None
     refs: dict[str, AlgorithmRef] = field(default_factory=dict)
+    qhull_options: str | None = None
 
     def budget_over(self) -> bool:
         return self.budget_deadline is not None and time.time() >= self.budget_deadline
@@ -385,7 +421,7 @@ class WorkerPool:
         names = dict.fromkeys(c.algorithm for c in job.task.configs[job.start_at:])
         refs = tuple(settings.refs[n] for n in names if n in settings.refs)
         wire = Job(task=job.task, start_at=job.start_at, qhull=settings.qhull, facts=job.facts,
-                   refs=refs, budget_deadline=settings.budget_deadline)
+                   refs=refs, budget_deadline=settings.budget_deadline, qhull_options=settings.qhull_options)
         payload = pickle.dumps(wire, protocol=pickle.HIGHEST_PROTOCOL)
         job.wire = (job.start_at, payload)
         return payload

@@ -21,13 +21,20 @@ rows are identical by construction.  Messages (tuples, first item the kind):
 
 ``time.monotonic()`` is system-wide on Linux and macOS, so the parent can
 compare a worker's timestamps with its own clock.
+
+Each call's own output (a library's warnings and messages on stdout or
+stderr, at the file-descriptor level, so C code's too; an executable's
+stderr) is captured around the call (:func:`captured_output`) and kept in
+the row's ``call_output`` column, never written to the terminal.
 """
 
 from __future__ import annotations
 
 import importlib
 import importlib.util
+import os
 import pickle
+import re
 import signal
 import sys
 import threading
@@ -37,7 +44,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any
 
-from .._registry import ALGORITHMS, AlgorithmSpec, get_algorithm
+from .._registry import ALGORITHMS, AlgorithmSpec, get_algorithm, set_clockwise
 from ..errors import UsageError, one_line
 from ..evaluate import CaseFacts, call_algorithm, case_facts, judge
 from ..records import Stage
@@ -54,7 +61,14 @@ __all__ = [
     "emit_row",
     "one_line",
     "row_for",
+    "captured_output",
+    "CALL_OUTPUT_CHARS",
 ]
+
+#: Characters of a call's captured output kept in its row (the tail).
+CALL_OUTPUT_CHARS = 2000
+# Qhull prints a random run id with its messages; the table must not depend on it.
+_RUN_ID = re.compile(r"run-id \d+")
 
 
 def death_reason(exitcode: int | None) -> str:
@@ -101,6 +115,8 @@ class AlgorithmRef:
         The module's file, for modules that are not importable by name.
     spec_pickle : bytes
         The pickled :class:`~hullstress.AlgorithmSpec` (the function by reference).
+    clockwise : bool
+        The parent's ``clockwise`` flag (``run --clockwise NAME`` sets it on built-ins too).
     """
 
     name: str
@@ -108,6 +124,7 @@ class AlgorithmRef:
     module: str
     file: str | None
     spec_pickle: bytes
+    clockwise: bool = False
 
 
 def _ref(spec: AlgorithmSpec) -> AlgorithmRef:
@@ -122,7 +139,8 @@ def _ref(spec: AlgorithmSpec) -> AlgorithmRef:
             f"to worker processes ({one_line(exc)}): define it at module level in an importable module or "
             "a --plugin file, or run with --workers 0"
         ) from None
-    return AlgorithmRef(name=spec.name, origin=spec.origin, module=module, file=file, spec_pickle=blob)
+    return AlgorithmRef(name=spec.name, origin=spec.origin, module=module, file=file, spec_pickle=blob,
+                        clockwise=spec.clockwise)
 
 
 def algorithm_refs(tasks: list[Task] | tuple[Task, ...]) -> dict[str, AlgorithmRef]:
@@ -162,6 +180,8 @@ def ensure_algorithm(ref: AlgorithmRef) -> str | None:
     True
     """
     if ref.name in ALGORITHMS:
+        if ALGORITHMS.get(ref.name).clockwise != ref.clockwise:
+            set_clockwise(ref.name, ref.clockwise)
         return None
     try:
         if ref.module not in sys.modules:
@@ -178,6 +198,8 @@ def ensure_algorithm(ref: AlgorithmRef) -> str | None:
                     _import_file(ref.module, ref.file)
         if ref.name not in ALGORITHMS:
             ALGORITHMS.add(pickle.loads(ref.spec_pickle))
+        if ALGORITHMS.get(ref.name).clockwise != ref.clockwise:
+            set_clockwise(ref.name, ref.clockwise)
     except Exception as exc:
         return f"cannot load algorithm {ref.name!r} from {ref.file or ref.module} in the worker: {one_line(exc)}"
     return None
@@ -200,6 +222,8 @@ class Job:
         For the algorithms of ``task``'s configs (empty in-process).
     budget_deadline : float or None
         ``time.time()`` after which no new call starts.
+    qhull_options : str or None
+        Qhull options tried first for the reference hull.
     """
 
     task: Task
@@ -208,6 +232,7 @@ class Job:
     facts: CaseFacts | None = None
     refs: tuple[AlgorithmRef, ...] = ()
     budget_deadline: float | None = None
+    qhull_options: str | None = None
 
 
 def _exit_code(exc: SystemExit) -> int:
@@ -242,6 +267,85 @@ def _alarm(seconds: float | None) -> Iterator[None]:
         signal.signal(signal.SIGALRM, previous)
 
 
+_capture_file: Any = None
+
+
+def _flush_c_stdio() -> None:
+    """Flush C's stdio buffers, so what a C library printf'd lands in the capture, not later on the terminal."""
+    try:
+        import ctypes
+
+        ctypes.CDLL(None).fflush(None)
+    except (OSError, AttributeError):
+        pass
+
+
+@contextmanager
+def captured_output() -> Iterator[list[str]]:
+    """Capture what is written on file descriptors 1 and 2 in the block; the list receives the text.
+
+    At the descriptor level, so a C library's messages (Qhull's ``QH...``
+    warnings) and a child program's stderr are captured too, not only
+    Python's ``sys.stderr``.  The text is the tail (:data:`CALL_OUTPUT_CHARS`),
+    with Qhull's random run ids blanked.
+
+    Examples
+    --------
+    >>> with captured_output() as out:
+    ...     _ = os.write(2, b"QH7088 warning, run-id 123\\n")
+    >>> out
+    ['QH7088 warning, run-id <n>']
+    """
+    global _capture_file
+    import tempfile
+
+    if _capture_file is None:
+        _capture_file = tempfile.TemporaryFile()
+        import atexit
+
+        atexit.register(_capture_file.close)
+    capture = _capture_file
+    result: list[str] = []
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (AttributeError, ValueError, OSError):
+            pass
+    capture.seek(0)
+    capture.truncate()
+    saved = [os.dup(1), os.dup(2)]
+    # sys.stdout may not write to fd 1 (pytest's capture, a notebook): point Python's streams there too.
+    saved_streams = (sys.stdout, sys.stderr)
+    ours = [open(fd, "w", encoding="utf-8", errors="replace", closefd=False) for fd in (1, 2)]
+    try:
+        os.dup2(capture.fileno(), 1)
+        os.dup2(capture.fileno(), 2)
+        sys.stdout, sys.stderr = ours
+        yield result
+    finally:
+        for stream in (sys.stdout, sys.stderr, *ours):
+            try:
+                stream.flush()
+            except (AttributeError, ValueError, OSError):
+                pass
+        for stream in ours:
+            stream.close()  # closefd=False: the descriptors stay
+        sys.stdout, sys.stderr = saved_streams
+        _flush_c_stdio()
+        os.dup2(saved[0], 1)
+        os.dup2(saved[1], 2)
+        for fd in saved:
+            os.close(fd)
+        size = capture.seek(0, os.SEEK_END)
+        capture.seek(max(0, size - 4 * CALL_OUTPUT_CHARS))
+        text = capture.read().decode("utf-8", errors="replace").strip()
+        result.append(_RUN_ID.sub("run-id <n>", text)[-CALL_OUTPUT_CHARS:])
+
+
+def _with_output(row: ResultRow, output: list[str]) -> ResultRow:
+    return ResultRow({**row.values, "call_output": output[0]}) if output and output[0] else row
+
+
 def run_job(job: Job, problems: Mapping[str, str] | None = None, *,
             alarm_after: float | None = None) -> Iterator[tuple[Any, ...]]:
     """Execute ``job`` and yield the protocol messages (see the module docstring).
@@ -271,7 +375,7 @@ def run_job(job: Job, problems: Mapping[str, str] | None = None, *,
         yield ("facts-start", time.monotonic())
         t0 = time.perf_counter()
         try:
-            facts = case_facts(case, qhull=job.qhull)
+            facts = case_facts(case, qhull=job.qhull, qhull_options=job.qhull_options)
         except Exception as exc:  # trusted code failing must still leave one row per config
             for k in range(job.start_at, len(configs)):
                 yield ("row", k, make_row(case, configs[k], status="error", stage=Stage.CHECK,
@@ -293,19 +397,22 @@ def run_job(job: Job, problems: Mapping[str, str] | None = None, *,
             continue
         started = time.monotonic()
         yield ("start", k, started)
+        output: list[str] = []
         try:
-            with _alarm(alarm_after):
+            with captured_output() as output, _alarm(alarm_after):
                 outcome = call_algorithm(case, config)
         except _CallTimedOut:
-            yield ("row", k, make_row(case, config, status="timeout", reason=f"exceeded {float(alarm_after or 0)} s",
-                                      seconds=time.monotonic() - started,
-                                      degenerate=facts.degenerate, invalid_input=facts.invalid_input))
+            yield ("row", k, _with_output(make_row(
+                case, config, status="timeout", reason=f"exceeded {float(alarm_after or 0)} s",
+                seconds=time.monotonic() - started, degenerate=facts.degenerate,
+                invalid_input=facts.invalid_input), output))
             continue
         except SystemExit as exc:
             # sys.exit() inside the code under test: the same row as a worker
             # that exits with that code (os._exit), but this process lives on.
-            yield ("row", k, make_row(case, config, status="crash", reason=death_reason(_exit_code(exc)),
-                                      degenerate=facts.degenerate, invalid_input=facts.invalid_input))
+            yield ("row", k, _with_output(make_row(
+                case, config, status="crash", reason=death_reason(_exit_code(exc)),
+                degenerate=facts.degenerate, invalid_input=facts.invalid_input), output))
             continue
         yield ("called", k, time.monotonic(), outcome.seconds)
         try:
@@ -315,7 +422,7 @@ def run_job(job: Job, problems: Mapping[str, str] | None = None, *,
                            reason=f"internal: judging raised {one_line(exc)}",
                            seconds=outcome.seconds, eps_value=outcome.eps_value,
                            degenerate=facts.degenerate, invalid_input=facts.invalid_input)
-        yield ("row", k, row)
+        yield ("row", k, _with_output(row, output))
     yield ("done",)
 
 

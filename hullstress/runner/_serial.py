@@ -32,7 +32,7 @@ def run_serial(
         if budget_deadline is not None and time.time() >= budget_deadline:
             stats.budget_exhausted = True
             return
-        job = Job(task=task, qhull=options.qhull, budget_deadline=budget_deadline)
+        job = Job(task=task, qhull=options.qhull, budget_deadline=budget_deadline, qhull_options=options.qhull_options)
         for message in run_job(job, alarm_after=options.timeout):
             kind = message[0]
             if kind == "row":

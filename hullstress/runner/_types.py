@@ -62,6 +62,8 @@ class RunnerOptions:
     scheduler : str or None
         A Dask scheduler address (``tcp://host:8786``): run on that cluster
         instead of locally; ``workers`` is then ignored.
+    qhull_options : str or None
+        Qhull options tried first for each case's reference hull (``--qhull-options``).
 
     Examples
     --------
@@ -80,6 +82,7 @@ class RunnerOptions:
     memory_limit_mb: float | None = DEFAULT_MEMORY_LIMIT_MB
     check_timeout: float | None = None
     scheduler: str | None = None
+    qhull_options: str | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.workers, int) or self.workers < 0:

@@ -10,7 +10,10 @@ A worker runs untrusted code, so it is set up to fail in recordable ways:
   and it is the parent's job to stop the sweep and kill the workers;
 * on Linux, ``PR_SET_PDEATHSIG`` kills it when its parent (the fork server)
   goes, so a worker stuck in a hang cannot outlive a killed run;
-* BLAS/OpenMP pools are limited to one thread: the parallelism is the workers.
+* BLAS/OpenMP pools are limited to one thread: the parallelism is the workers;
+* whatever a call writes on stdout or stderr is captured into its row
+  (:func:`hullstress.runner._protocol.captured_output`), so thousands of
+  library warnings never reach the terminal.
 """
 
 from __future__ import annotations
@@ -91,7 +94,7 @@ def worker_main(conn: Connection, limit_bytes: int | None) -> None:
         if job is None:
             return
         for ref in job.refs:
-            if ref.name not in problems:
+            if problems.get(ref.name, "") is not None:  # new, or loaded: (re)syncs options such as clockwise
                 problems[ref.name] = ensure_algorithm(ref)
         known = {name: why for name, why in problems.items() if why is not None}
         try:

@@ -98,7 +98,7 @@ def output_faces(case: Case, config: AlgorithmConfig, signature: Signature) -> t
 
 
 def verify_from_storage(case: Case, kind: str, config: AlgorithmConfig, signature: Signature,
-                        timeout: float | None) -> bool | None:
+                        timeout: float | None, qhull_options: str | None = None) -> bool | None:
     """Whether ``config`` fails with ``signature`` on ``case``'s points as stored in form ``kind``.
 
     Returns None when the failure cannot be re-run safely here (a crash or
@@ -112,6 +112,6 @@ def verify_from_storage(case: Case, kind: str, config: AlgorithmConfig, signatur
             return False
         replay = Case.from_points(back, family="file")
     try:
-        return fails_same_way(replay, config, signature, timeout=timeout)
+        return fails_same_way(replay, config, signature, timeout=timeout, qhull_options=qhull_options)
     except IsolationUnavailable:
         return None

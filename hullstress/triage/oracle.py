@@ -51,6 +51,7 @@ def run_config(
     timeout: float | None = None,
     isolate: bool | None = None,
     dangerous: bool = False,
+    qhull_options: str | None = None,
 ) -> ResultRow:
     """Run and judge ``config`` on ``case`` once.
 
@@ -66,6 +67,8 @@ def run_config(
     dangerous : bool
         The call is expected to hang or crash (a timeout/crash signature): it
         is never run in-process.
+    qhull_options : str, optional
+        Qhull options tried first for the reference (the run's ``--qhull-options``).
 
     Returns
     -------
@@ -73,7 +76,10 @@ def run_config(
     """
     run_one = isolated_runner() if isolate is not False else None
     if run_one is not None:
-        return run_one(case, config, timeout=timeout if timeout is not None else DEFAULT_TIMEOUT)
+        timeout = timeout if timeout is not None else DEFAULT_TIMEOUT
+        if qhull_options is None:
+            return run_one(case, config, timeout=timeout)
+        return run_one(case, config, timeout=timeout, qhull_options=qhull_options)
     if isolate or dangerous:
         raise IsolationUnavailable(
             f"reproducing {config.label} safely needs hullstress.runner.run_one "
@@ -81,7 +87,7 @@ def run_config(
         )
     from ..evaluate import evaluate
 
-    return evaluate(case, config)
+    return evaluate(case, config, qhull_options=qhull_options)
 
 
 def fails_same_way(
@@ -92,6 +98,7 @@ def fails_same_way(
     timeout: float | None = None,
     isolate: bool | None = None,
     error: str | None = None,
+    qhull_options: str | None = None,
 ) -> bool:
     """True when running ``config`` on ``case`` fails with ``signature``'s failed check.
 
@@ -118,7 +125,7 @@ def fails_same_way(
     False
     """
     row = run_config(case, config, timeout=timeout, isolate=isolate,
-                     dangerous=signature.check in ("timeout", "crash"))
+                     dangerous=signature.check in ("timeout", "crash"), qhull_options=qhull_options)
     return same_failure(row, signature, error=error)
 
 

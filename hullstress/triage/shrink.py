@@ -55,10 +55,12 @@ class _Oracle:
     """Counts, caches and budgets the judged calls of one shrink."""
 
     def __init__(self, original: Case, config: AlgorithmConfig, signature: Signature, *,
-                 deadline: float, max_calls: int, timeout: float | None, isolate: bool | None) -> None:
+                 deadline: float, max_calls: int, timeout: float | None, isolate: bool | None,
+                 qhull_options: str | None = None) -> None:
         self.original, self.config, self.signature = original, config, signature
         self.deadline, self.max_calls = deadline, max_calls
         self.timeout, self.isolate = timeout, isolate
+        self.qhull_options = qhull_options
         self.calls = 0
         self.cache: dict[str, ResultRow | None] = {}
         self.best: tuple[np.ndarray, ResultRow] | None = None
@@ -75,7 +77,7 @@ class _Oracle:
             raise _Stop()
         case = derive_case(self.original, points)
         row = run_config(case, self.config, timeout=self.timeout, isolate=self.isolate,
-                         dangerous=self.signature.check in ("timeout", "crash"))
+                         dangerous=self.signature.check in ("timeout", "crash"), qhull_options=self.qhull_options)
         self.calls += 1
         hit = same_failure(row, self.signature, error=self.error)
         if hit and self.error is None and self.signature.check == "error":
@@ -99,6 +101,7 @@ def shrink(
     timeout: float | None = None,
     isolate: bool | None = None,
     simplify: bool = True,
+    qhull_options: str | None = None,
 ) -> ShrinkResult:
     """Minimise ``case`` to a small point set on which ``config`` fails the same way.
 
@@ -119,6 +122,8 @@ def shrink(
         See :func:`~hullstress.triage.oracle.run_config`.
     simplify : bool
         Run the coordinate simplification passes after ddmin.
+    qhull_options : str, optional
+        Qhull options tried first for each call's reference (the run's ``--qhull-options``).
 
     Returns
     -------
@@ -133,13 +138,13 @@ def shrink(
     start = time.perf_counter()
     oracle_sig = signature
     if oracle_sig is None:
-        row = run_config(case, config, timeout=timeout, isolate=isolate)
+        row = run_config(case, config, timeout=timeout, isolate=isolate, qhull_options=qhull_options)
         oracle_sig = signature_of(row)
         if oracle_sig is None:
             return _unshrunk(case, Signature(config.algorithm, config.sphere, config.eps, "none", case.family),
                              start, 1, f"the case does not fail ({row.status})", row=None)
     oracle = _Oracle(case, config, oracle_sig, deadline=start + budget_seconds,
-                     max_calls=max_calls, timeout=timeout, isolate=isolate)
+                     max_calls=max_calls, timeout=timeout, isolate=isolate, qhull_options=qhull_options)
     steps: list[str] = []
     try:
         if not oracle(case.points):

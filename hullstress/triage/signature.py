@@ -28,10 +28,13 @@ from ..config import AlgorithmConfig
 from ..records import CONTRACT_REASON, METHOD_REASON, Stage
 from ..verdict import CHECKS
 
-__all__ = ["Signature", "failed_check", "signature_of", "stage_of", "FAILED_STATUSES"]
+__all__ = ["Signature", "failed_check", "signature_of", "stage_of", "FAILED_STATUSES", "FAILED_CHECKS"]
 
 #: Statuses that are failures of the code under test (``rejected`` is acceptable behaviour).
 FAILED_STATUSES = ("fail", "error", "timeout", "crash")
+
+#: Every value the "failed check" part of a signature can take (``shrink --check`` accepts these).
+FAILED_CHECKS = ("contract",) + tuple(CHECKS) + ("invalid-input", "error", "timeout", "crash")
 
 _UNSAFE = re.compile(r"[^A-Za-z0-9._-]+")
 

@@ -43,7 +43,7 @@ def _table_row(table: pd.DataFrame, index: int) -> ResultRow:
 
 
 def triage_one(result: ShrinkResult, config: AlgorithmConfig, *, group: FailureGroup | None = None,
-               timeout: float | None = None, verify: bool = True) -> TriageRecord:
+               timeout: float | None = None, verify: bool = True, qhull_options: str | None = None) -> TriageRecord:
     """Gather a shrink result's evidence: the output faces, the storage form, the verification.
 
     Parameters
@@ -56,12 +56,14 @@ def triage_one(result: ShrinkResult, config: AlgorithmConfig, *, group: FailureG
         Per-call timeout for the verification run.
     verify : bool
         Re-run the case from its stored form (skipped for hangs: a full timeout each).
+    qhull_options : str, optional
+        The run's ``--qhull-options`` (the verification's reference uses them).
     """
     sig = result.signature
     dangerous = sig.check in ("timeout", "crash")
     kind = storage_kind(result.case.points)
     faces, note = output_faces(result.case, config, sig) if not dangerous else (None, f"no output: {sig.check}")
-    verified = verify_from_storage(result.case, kind, config, sig, timeout) if verify else None
+    verified = verify_from_storage(result.case, kind, config, sig, timeout, qhull_options) if verify else None
     return TriageRecord(signature=sig, config=config, group=group, shrink=result, faces=faces,
                         faces_note=note, storage=kind, verified=verified)
 
@@ -75,6 +77,7 @@ def triage_failures(
     timeout: float | None = None,
     max_records: int = DEFAULTS.max_folders,
     should_stop: Callable[[], bool] | None = None,
+    qhull_options: str | None = None,
 ) -> TriageResult:
     """Group the table's failures and minimise and verify one case per group, within ``budget``.
 
@@ -93,7 +96,10 @@ def triage_failures(
     max_records : int
         Cap on triaged groups (worst first).
     should_stop : callable, optional
-        Polled between groups; when it returns True triage ends early (an interrupt).
+        Polled between groups and by the shrinker between calls; when it
+        returns True triage ends early (an interrupt).
+    qhull_options : str, optional
+        The run's ``--qhull-options``, for every re-run's reference.
 
     Returns
     -------
@@ -132,14 +138,15 @@ def triage_failures(
                                    f"{call_timeout:g} s timeout, too long for the shrink budget")
             else:
                 result = shrink_case(case, sig.config, sig, budget_seconds=min(budget.shrink_per_group, remaining),
-                                     timeout=timeout)
+                                     timeout=timeout, qhull_options=qhull_options)
                 spent += result.seconds
                 if not result.reproduced:
                     result = _unshrunk(case, sig, row, result.note)
             if not result.reproduced:
                 not_shrunk += 1
             # Re-running a hang to verify it would cost a full timeout per group.
-            records.append(triage_one(result, sig.config, group=group, timeout=timeout, verify=sig.check != "timeout"))
+            records.append(triage_one(result, sig.config, group=group, timeout=timeout, verify=sig.check != "timeout",
+                                      qhull_options=qhull_options))
         except KeyboardInterrupt:
             # An interrupt (the pipeline's signal handler) ends triage; the groups done so far stay.
             stopped = True

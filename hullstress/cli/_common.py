@@ -1,0 +1,113 @@
+"""What several subcommands share: registration options and number checks for argparse.
+
+* :func:`add_registration_options` / :func:`load_registrations`: ``--plugin``,
+  ``--exec NAME=COMMAND`` and (where outputs are judged) ``--clockwise NAME``.
+* ``type=`` converters (:func:`seconds`, :func:`mebibytes`, :func:`count`):
+  a bad number is an argparse error, so it is refused before anything loads,
+  on one line naming the option and the value (exit status 2).
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+from collections.abc import Callable
+
+__all__ = ["add_registration_options", "load_registrations", "seconds", "mebibytes", "count", "registration_args"]
+
+
+def _finite(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"must be a finite number, got {text!r}")
+    return value
+
+
+def seconds(*, zero: bool = False) -> Callable[[str], float]:
+    """A converter for a duration in seconds: finite and positive (or 0 when ``zero``)."""
+
+    def convert(text: str) -> float:
+        value = _finite(text)
+        if value < 0 or (value == 0 and not zero):
+            raise argparse.ArgumentTypeError(
+                f"must be {'0 or more' if zero else 'a positive number of'} seconds, got {text!r}")
+        return value
+
+    convert.__name__ = "seconds"  # argparse names the type in its own messages
+    return convert
+
+
+def mebibytes(text: str) -> float:
+    """A memory limit in MiB: 0 (no limit) or a finite positive number."""
+    value = _finite(text)
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be 0 (no limit) or a positive number of MiB, got {text!r}")
+    return value
+
+
+def count(*, minimum: int) -> Callable[[str], int]:
+    """A converter for an integer of at least ``minimum``."""
+
+    def convert(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
+        if value < minimum:
+            raise argparse.ArgumentTypeError(f"must be at least {minimum}, got {text!r}")
+        return value
+
+    convert.__name__ = "count"
+    return convert
+
+
+def add_registration_options(parser: argparse.ArgumentParser, *, clockwise: bool = True) -> None:
+    """Add ``--plugin``, ``--exec`` and (with ``clockwise``) ``--clockwise`` to ``parser``."""
+    parser.add_argument("--plugin", action="append", default=[], metavar="MODULE_OR_FILE",
+                        help="import a module or .py file that registers algorithms or generators (repeatable)")
+    parser.add_argument("--exec", action="append", default=[], metavar="NAME=COMMAND", dest="exec_specs",
+                        help="register a program in any language as algorithm NAME (repeatable): it reads "
+                        "Qhull-format points on stdin and writes its hull on stdout; NAME[dim=2|3,output=i|Fx|off] "
+                        "sets the dimension (default 3) and the output format (default i: Qhull's facet "
+                        "indices; Fx: 2D extreme points; off: OFF), e.g. qconvex='qconvex Qt i'")
+    if clockwise:
+        parser.add_argument("--clockwise", action="append", default=[], metavar="NAME", dest="clockwise_names",
+                            help="algorithm NAME writes faces clockwise seen from outside (as Qhull's 3D 'i' "
+                            "does); reverse them before checking (repeatable)")
+
+
+def load_registrations(args: argparse.Namespace) -> None:
+    """Import the plug-ins, register the executables and mark the clockwise algorithms.
+
+    Raises
+    ------
+    UsageError
+        A plug-in that cannot be imported, a malformed ``--exec``, a program
+        not found, a name registered twice, an unknown ``--clockwise`` name.
+    """
+    from .._registry import register_executable, set_clockwise
+    from ..adapters.executable import parse_exec_spec
+    from ..plugins import load_plugin
+
+    for spec in getattr(args, "plugin", []):
+        load_plugin(spec)
+    for text in getattr(args, "exec_specs", []):
+        name, command, options = parse_exec_spec(text)
+        register_executable(name, command, dim=options["dim"], output=options["output"])
+    for name in getattr(args, "clockwise_names", []):
+        set_clockwise(name)
+
+
+def registration_args(args: argparse.Namespace) -> tuple[str, ...]:
+    """The registration options as command-line arguments (for reproduce commands)."""
+    out: list[str] = []
+    for spec in getattr(args, "plugin", []):
+        out += ["--plugin", spec]
+    for text in getattr(args, "exec_specs", []):
+        out += ["--exec", text]
+    for name in getattr(args, "clockwise_names", []):
+        out += ["--clockwise", name]
+    return tuple(out)
