@@ -26,7 +26,7 @@ import numpy as np
 from .case import Case
 from .config import NO_EPS, AlgorithmConfig
 from .contract import FaceSet, normalize_output
-from .errors import ContractViolation, one_line
+from .errors import ContractViolation, code_frame, one_line
 from .results import ResultRow, make_row
 from .tolerance import tolerance
 
@@ -72,6 +72,9 @@ class CallOutcome:
         Wall time of preprocessing plus the algorithm call.
     eps_value : float or None
         The tolerance passed as ``eps``.
+    frame : str
+        For ``raised``: the innermost frame of the code under test
+        (:func:`~hullstress.errors.code_frame`), part of a failure's signature.
     """
 
     kind: str
@@ -79,6 +82,7 @@ class CallOutcome:
     error: str = ""
     seconds: float = 0.0
     eps_value: float | None = None
+    frame: str = ""
 
 
 def input_problem(points: np.ndarray, dim: int) -> str | None:
@@ -137,7 +141,8 @@ def call_algorithm(case: Case, config: AlgorithmConfig) -> CallOutcome:
             warnings.simplefilter("ignore")
             raw = spec.func(points, **kwargs)
     except (Exception, RecursionError) as exc:  # the code under test may raise anything
-        return CallOutcome("raised", error=one_line(exc), seconds=time.perf_counter() - start, eps_value=eps_value)
+        return CallOutcome("raised", error=one_line(exc), seconds=time.perf_counter() - start, eps_value=eps_value,
+                           frame=code_frame(exc.__traceback__, spec.module))
     seconds = time.perf_counter() - start
     try:
         faces = normalize_output(raw, len(points), case.dim)
@@ -169,7 +174,7 @@ def judge(case: Case, config: AlgorithmConfig, outcome: CallOutcome, facts: Case
         # behaviour, except running out of memory or stack: that is no rejection.
         resource = outcome.error.startswith(("MemoryError", "RecursionError"))
         status = "rejected" if (facts.invalid_input or facts.degenerate) and not resource else "error"
-        return make_row(case, config, status=status, reason=outcome.error, **common)
+        return make_row(case, config, status=status, reason=outcome.error, error_frame=outcome.frame, **common)
     if outcome.kind == "contract":
         return make_row(case, config, status="fail", reason=f"output contract: {outcome.error}", **common)
     assert outcome.faces is not None

@@ -58,23 +58,46 @@ DEFAULTS = Defaults()
 
 @dataclass(frozen=True)
 class TriageBudget:
-    """Time limits of triage and of the report's pictures, in seconds.
+    """How much work triage and the report's pictures may do.
+
+    Shrinking is budgeted in **evaluations** (judged calls of the code under
+    test), never in seconds, so the same seed gives the same minimal cases
+    and failure folders on any machine, under any load and with any number
+    of workers.  The wall-clock cap is only a safety net: when it fires,
+    triage stops early and the report says that its folders may differ
+    between runs.
 
     Attributes
     ----------
-    shrink_total, shrink_per_group : float
-        Shrinking, over all groups and per group.
-    total : float
-        Triage as a whole; groups past it are listed in the tables without a
-        minimised case or folder.
-    pictures : float
-        Drawing pictures in the report (groups past it get a folder without one).
+    calls : int
+        Evaluations for the whole of triage: shrinking and the cross-checks
+        that let a group start from another group's minimal case (verifying
+        each minimal case adds one call per group).  Groups reached after it
+        is spent keep their smallest failing case, unshrunk.
+    group_calls : int
+        Evaluations for one group's shrink.
+    hang_calls : int
+        Evaluations for shrinking a ``timeout`` group, where every failing
+        call lasts the whole per-call timeout (0: such groups are not shrunk).
+    pictures : int
+        Causes that get a picture, worst first.
+    safety_seconds : float
+        Wall-clock safety net on triage.
     """
 
-    shrink_total: float
-    shrink_per_group: float
-    total: float
-    pictures: float
+    calls: int
+    group_calls: int
+    hang_calls: int
+    pictures: int
+    safety_seconds: float
+
+    def __post_init__(self) -> None:
+        for name in ("calls", "group_calls", "hang_calls", "pictures"):
+            value = getattr(self, name)
+            if not isinstance(value, int) or isinstance(value, bool) or value < 0:
+                raise UsageError(f"TriageBudget.{name} must be an integer >= 0, got {value!r}")
+        if not self.safety_seconds > 0:
+            raise UsageError(f"TriageBudget.safety_seconds must be positive, got {self.safety_seconds!r}")
 
 
 @dataclass(frozen=True)
@@ -109,8 +132,8 @@ PROFILES: Mapping[str, Profile] = MappingProxyType(
             sizes=MappingProxyType({2: (24,), 3: (24,)}),
             replicates=1,
             timeout=10.0,
-            # The whole run stays under a minute on 2 cores (the sweep takes ~20 s).
-            triage=TriageBudget(shrink_total=10.0, shrink_per_group=2.0, total=25.0, pictures=8.0),
+            # Measured on 2 cores: ~30 s end to end, of which the sweep is ~13 s.
+            triage=TriageBudget(calls=12_000, group_calls=30, hang_calls=0, pictures=12, safety_seconds=600.0),
             description="every family and variant once at a small size; under a minute on 2 cores",
         ),
         "nightly": Profile(
@@ -120,7 +143,8 @@ PROFILES: Mapping[str, Profile] = MappingProxyType(
             sizes=MappingProxyType({2: (16, 64, 256, 512), 3: (16, 64, 256, 512)}),
             replicates=2,
             timeout=30.0,
-            triage=TriageBudget(shrink_total=300.0, shrink_per_group=30.0, total=900.0, pictures=120.0),
+            triage=TriageBudget(calls=150_000, group_calls=600, hang_calls=12, pictures=100,
+                                safety_seconds=3600.0),
             description="every family and variant at four sizes up to 512 points with two seeds; "
             "about 30 minutes on 2 cores",
         ),

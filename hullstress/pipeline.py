@@ -10,7 +10,8 @@ execute    each task runs in an isolated worker: preprocessing,   :func:`hullstr
 check      in the same worker, the exact checker turns the        ``checker/``, ``evaluate.judge``
            output into a verdict row
 triage     failing rows grouped by signature, one case per        :func:`hullstress.triage.triage_failures`
-           group shrunk and verified
+           group shrunk (in parallel, on a budget counted in
+           evaluations), groups merged into causes
 report     tables, summary, failure folders, HTML, JUnit;         :func:`hullstress.report.stage.write_run_report`
            reads records, runs nothing
 =========  =====================================================  ==========================
@@ -251,7 +252,7 @@ def run(
         unreachable scheduler (then no run folder is left behind).
     """
     from .corpus.baseline import compare_with_baseline, load_baseline
-    from .progress import ProgressBar
+    from .progress import PhaseProgress, ProgressBar
     from .report.stage import write_run_report
     from .report.writer import RowStream, new_run_dir, run_metadata, write_report
     from .triage.stage import triage_failures
@@ -269,11 +270,14 @@ def run(
     rows: list[ResultRow] = []
     stream = RowStream(run_dir)
     bar = ProgressBar(the_plan.n_calls, enabled=progress)
+    # Without a terminal (CI logs), a line per quarter of the sweep instead of the bar.
+    quarters = PhaseProgress("sweep", "calls", live=False, enabled=echo is not None and not progress)
 
     def collect(row: ResultRow) -> None:
         rows.append(row)
         stream(row)
         bar.update(row)
+        quarters(len(rows), the_plan.n_calls)
         if on_row is not None:
             on_row(row)
 
@@ -306,12 +310,22 @@ def run(
         # triage.
         t0 = time.perf_counter()
         if the_run.signal is None:
-            say("triage: grouping failures, shrinking one case per group")
-        the_run.triage = triage_failures(
-            the_run.table, the_plan.cases, budget=profile.triage, shrink=options.shrink and not the_run.interrupted,
-            timeout=timeout, should_stop=signals.stop_requested,
-        )
+            say("triage: grouping failures by signature, shrinking one case per group, merging groups into causes")
+        runner = sweep.runner_options()
+        triage_bar = PhaseProgress("triage", "groups", live=progress, enabled=echo is not None)
+        try:
+            the_run.triage = triage_failures(
+                the_run.table, the_plan.cases, budget=profile.triage,
+                shrink=options.shrink and not the_run.interrupted, timeout=timeout, workers=max(1, runner.workers),
+                qhull=runner.qhull, memory_limit_mb=runner.memory_limit_mb, should_stop=signals.stop_requested,
+                progress=triage_bar,
+            )
+        finally:
+            triage_bar.close()
         the_run.seconds["triage"] = time.perf_counter() - t0
+        if the_run.signal is None:
+            say(f"triage: {len(the_run.triage.groups)} failure groups -> {len(the_run.triage.causes)} causes "
+                f"in {the_run.seconds['triage']:.1f} s ({the_run.triage.calls} evaluations)")
         the_run.signal = signals.signum
         if the_run.signal is None and baseline is not None:
             the_run.comparison = compare_with_baseline(the_run.table, baseline)
@@ -324,11 +338,16 @@ def run(
         t0 = time.perf_counter()
         the_run.seconds["total_before_report"] = time.perf_counter() - started
         the_run.meta = _metadata(the_run, options, run_metadata)
-        the_run.report = write_run_report(
-            run_dir, the_run.table, the_run.meta, the_run.triage, picture_budget=profile.triage.pictures,
-            plugins=options.plugins, timeout=timeout, junit_path=options.junit, pictures=options.pictures,
-            comparison=the_run.comparison, baseline_label=options.baseline, should_stop=signals.stop_requested,
-        )
+        report_bar = PhaseProgress("report", "cause folders", live=progress, enabled=echo is not None)
+        try:
+            the_run.report = write_run_report(
+                run_dir, the_run.table, the_run.meta, the_run.triage,
+                pictures=profile.triage.pictures if options.pictures else 0, plugins=options.plugins,
+                timeout=timeout, junit_path=options.junit, comparison=the_run.comparison,
+                baseline_label=options.baseline, should_stop=signals.stop_requested, progress=report_bar,
+            )
+        finally:
+            report_bar.close()
         the_run.seconds["report"] = time.perf_counter() - t0
         if signals.signum is not None and the_run.signal is None:
             # Interrupted while the report was being written: it is complete, but say so.
@@ -351,7 +370,11 @@ def _metadata(the_run: Run, options: RunOptions, run_metadata: Callable[..., dic
                "calls_planned": the_run.plan.n_calls,
                "budget_exhausted": bool(stats.budget_exhausted) if stats else False,
                "runner": stats.as_dict() if stats else None,
-               "phase_seconds": {k: round(v, 3) for k, v in the_run.seconds.items()}},
+               "phase_seconds": {k: round(v, 3) for k, v in the_run.seconds.items()},
+               "triage": None if the_run.triage is None else {
+                   "groups": len(the_run.triage.groups), "causes": len(the_run.triage.causes),
+                   "evaluations": the_run.triage.calls, "stopped": the_run.triage.stopped,
+                   "safety_net": the_run.triage.safety_net}},
     )
 
 

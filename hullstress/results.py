@@ -26,7 +26,7 @@ STATUSES = ("pass", "fail", "rejected", "error", "timeout", "crash")
 
 _PROVENANCE = ("case_id", "generator", "params", "transform", "dim", "n_points", "size", "seed", "source")
 _CONFIG = ("algorithm", "origin", "sphere", "eps", "config")
-_OUTCOME = ("status", "reason", "seconds", "check_seconds", "eps_value", "degenerate", "invalid_input")
+_OUTCOME = ("status", "reason", "error_frame", "seconds", "check_seconds", "eps_value", "degenerate", "invalid_input")
 
 #: Column order of every results table.
 ROW_COLUMNS = _PROVENANCE + _CONFIG + _OUTCOME + VERDICT_COLUMNS
@@ -74,6 +74,7 @@ def make_row(
     invalid_input: str | None = None,
     verdict: Verdict | None = None,
     origin: str | None = None,
+    error_frame: str = "",
 ) -> ResultRow:
     """Assemble a :class:`ResultRow` from its parts.
 
@@ -87,6 +88,9 @@ def make_row(
         One line: the exception, the contract violation, the failed checks, the signal.
     verdict : Verdict, optional
         The checker's verdict; its columns are missing values when absent.
+    error_frame : str
+        For an exception: the innermost frame of the code under test that
+        raised it (``module:line in function``).
     """
     if status not in STATUSES:
         raise ValueError(f"status must be one of {STATUSES}, got {status!r}")
@@ -112,6 +116,7 @@ def make_row(
         "config": config.label,
         "status": status,
         "reason": " ".join(str(reason).split())[:500],
+        "error_frame": error_frame,
         "seconds": float(seconds),
         "check_seconds": float(check_seconds),
         "eps_value": eps_value,
@@ -140,6 +145,7 @@ def to_frame(rows: Iterable[ResultRow]) -> pd.DataFrame:
         df[col] = pd.to_numeric(df[col], errors="coerce").astype("Int64")
     for col in ("seconds", "check_seconds", "eps_value", "max_violation", "distround", "volume", "qhull_volume"):
         df[col] = pd.to_numeric(df[col], errors="coerce").astype("float64")
-    for col in ("failed_checks", "severity", "qhull_options", "offending", "reason", "invalid_input", "transform"):
+    for col in ("failed_checks", "severity", "qhull_options", "offending", "reason", "error_frame", "invalid_input",
+                "transform"):
         df[col] = df[col].astype("string")
     return df

@@ -133,22 +133,33 @@ def run_command(args: argparse.Namespace) -> int:
 
 
 def _print_summary(the_run: Any, args: argparse.Namespace, *, quiet: bool) -> None:
-    """The terminal's last lines: failures by config, status counts, baseline, corpus, report path."""
-    from ..report.tables import failure_counts
+    """The terminal's last lines, like pytest's short summary: the top causes and their folders, then the totals."""
+    from ..report.summary import TABLES, TOP_CAUSES
 
     table = the_run.table
     counts = table["status"].value_counts()
     line = ", ".join(f"{counts.get(s, 0)} {s}" for s in ("pass", "fail", "rejected", "error", "timeout", "crash"))
-    if not quiet and len(table):
-        worst = failure_counts(table).groupby(["algorithm", "sphere", "eps"], observed=True)["failed"].sum()
-        worst = worst.sort_values(ascending=False).head(8)
-        if len(worst):
-            print("failures by algorithm config:")
-            for (alg, sph, eps), n in worst.items():
-                print(f"  {alg}[sphere={sph},eps={eps}]: {n}")
+    triage = the_run.triage
+    report = the_run.report
+    folders = {r.cause.slug: r.folder for r in report.records} if report is not None else {}
+    if not quiet and triage is not None and triage.causes:
+        causes = triage.causes
+        shown = min(TOP_CAUSES, len(causes))
+        print(_rule(f"short summary: top {shown} of {len(causes)} causes"))
+        for rank, cause in enumerate(causes[:shown], start=1):
+            size = f"{cause.minimal_size} points" + ("" if cause.minimised else " (not shrunk)")
+            print(f"CAUSE {rank}: {cause.failures} failed in {len(cause.families)} "
+                  f"famil{'y' if len(cause.families) == 1 else 'ies'}, {size}: {cause.headline}")
+            if cause.slug in folders:
+                print(f"    {folders[cause.slug]}")
+        if len(causes) > shown:
+            print(f"... {len(causes) - shown} more causes in {the_run.run_dir / TABLES['causes']}")
     state = "" if the_run.complete and not the_run.interrupted else " (INCOMPLETE)"
     wall = the_run.seconds.get("sweep", 0.0)
-    print(f"{len(table)}/{the_run.plan.n_calls} calls in {wall:.1f} s: {line}{state}")
+    tail = ""
+    if triage is not None and triage.groups:
+        tail = f"; {len(triage.groups)} failure groups, {len(triage.causes)} causes"
+    print(f"{len(table)}/{the_run.plan.n_calls} calls in {wall:.1f} s: {line}{tail}{state}")
     if the_run.comparison is not None:
         states = the_run.comparison["state"].value_counts()
         print(f"against baseline {args.baseline}: " + ", ".join(
@@ -160,3 +171,10 @@ def _print_summary(the_run: Any, args: argparse.Namespace, *, quiet: bool) -> No
         print(f"hullstress: interrupted ({'SIGTERM' if the_run.exit_status == 143 else 'SIGINT'}); "
               "the report covers what finished", file=sys.stderr)
     print(f"report: {the_run.run_dir}")
+
+
+def _rule(title: str, width: int = 79) -> str:
+    """``===== title =====`` across the terminal's usual width, as pytest draws its section lines."""
+    text = f" {title} "
+    left = max(3, (width - len(text)) // 2)
+    return "=" * left + text + "=" * max(3, width - left - len(text))

@@ -1,4 +1,4 @@
-"""The run folder: ``results.csv`` (+ ``results.parquet``), ``summary.md``, ``run.json``.
+"""The run folder: ``results.csv`` (+ ``results.parquet``), ``run.json``, the sweep's tables and ``summary.md``.
 
 Rows are streamed to ``results.partial.csv`` as they arrive, so a run that is
 killed still leaves a readable table; the final, sorted ``results.csv``
@@ -8,7 +8,6 @@ replaces it when the run ends (also on Ctrl-C / SIGTERM, marked incomplete).
 from __future__ import annotations
 
 import csv
-import io
 import json
 import os
 import platform
@@ -24,7 +23,6 @@ import pandas as pd
 from ..errors import UsageError
 from ..files import atomic_write_text, atomic_write_with
 from ..results import ROW_COLUMNS, ResultRow
-from .tables import failure_counts, status_counts
 
 __all__ = ["new_run_dir", "RowStream", "write_report", "package_versions"]
 
@@ -102,30 +100,6 @@ def _markdown(df: pd.DataFrame) -> str:
     return "\n".join(lines) + "\n"
 
 
-def summary_markdown(df: pd.DataFrame, meta: Mapping[str, Any]) -> str:
-    """``summary.md``: status totals, per-config totals, failures by algorithm x variant x family."""
-    buf = io.StringIO()
-    state = "complete" if meta.get("complete", True) else "INCOMPLETE (interrupted or out of time budget)"
-    buf.write(f"# hullstress run {meta.get('run_id', '')}\n\n")
-    buf.write(
-        f"Profile `{meta.get('profile')}`, seed {meta.get('seed')}, {len(df)} calls over "
-        f"{df['case_id'].nunique() if len(df) else 0} cases, {meta.get('timings', {}).get('wall_seconds', 0):.1f} s; {state}.\n\n"
-    )
-    buf.write("## Calls by status\n\n")
-    totals = df["status"].value_counts().reindex(["pass", "fail", "rejected", "error", "timeout", "crash"], fill_value=0)
-    buf.write(_markdown(totals.rename_axis("status").reset_index(name="calls")))
-    buf.write("\n## By algorithm and variant\n\n")
-    buf.write(_markdown(status_counts(df, ["algorithm", "sphere", "eps"])) if len(df) else "_(no calls)_\n")
-    buf.write("\n## Failures by algorithm x variant x family\n\n")
-    buf.write(_markdown(failure_counts(df)) if len(df) else "_(no calls)_\n")
-    skipped = meta.get("skipped") or []
-    if skipped:
-        buf.write(f"\n## Cases not generated ({len(skipped)})\n\n")
-        for line in skipped:
-            buf.write(f"- {line}\n")
-    return buf.getvalue()
-
-
 def write_report(run_dir: Path, df: pd.DataFrame, meta: Mapping[str, Any]) -> dict[str, Path]:
     """Write the run's tables and metadata into ``run_dir``.
 
@@ -146,9 +120,10 @@ def write_report(run_dir: Path, df: pd.DataFrame, meta: Mapping[str, Any]) -> di
         pq_path = run_dir / "results.parquet"
         df.to_parquet(pq_path, index=False)
         written["parquet"] = pq_path
-    summary = run_dir / "summary.md"
-    atomic_write_text(summary, summary_markdown(df, meta))
-    written["summary"] = summary
+    from .summary import summary_markdown, write_summary, write_sweep_tables
+
+    write_sweep_tables(run_dir, df)
+    written["summary"] = write_summary(run_dir, summary_markdown(df, meta))
     meta_path = run_dir / "run.json"
     atomic_write_text(meta_path, json.dumps(meta, indent=2, sort_keys=True, default=str) + "\n")
     written["json"] = meta_path
