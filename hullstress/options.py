@@ -83,6 +83,12 @@ class TriageBudget:
         Causes that get a picture, worst first.
     safety_seconds : float
         Wall-clock safety net on triage.
+    call_timeout : float
+        Per-call limit for shrink candidates, in seconds (the sweep's own
+        timeout when that is shorter; hangs are shrunk with the sweep's).  A
+        candidate of a few points takes milliseconds, so this is generous,
+        and a candidate that hangs costs a round this long, not a whole
+        sweep timeout.
     """
 
     calls: int
@@ -90,14 +96,16 @@ class TriageBudget:
     hang_calls: int
     pictures: int
     safety_seconds: float
+    call_timeout: float = 2.0
 
     def __post_init__(self) -> None:
         for name in ("calls", "group_calls", "hang_calls", "pictures"):
             value = getattr(self, name)
             if not isinstance(value, int) or isinstance(value, bool) or value < 0:
                 raise UsageError(f"TriageBudget.{name} must be an integer >= 0, got {value!r}")
-        if not self.safety_seconds > 0:
-            raise UsageError(f"TriageBudget.safety_seconds must be positive, got {self.safety_seconds!r}")
+        for name in ("safety_seconds", "call_timeout"):
+            if not getattr(self, name) > 0:
+                raise UsageError(f"TriageBudget.{name} must be positive, got {getattr(self, name)!r}")
 
 
 @dataclass(frozen=True)
@@ -132,9 +140,11 @@ PROFILES: Mapping[str, Profile] = MappingProxyType(
             sizes=MappingProxyType({2: (24,), 3: (24,)}),
             replicates=1,
             timeout=10.0,
-            # Measured on 2 cores: ~30 s end to end, of which the sweep is ~13 s.
+            # Measured on 2 shared cores: ~80 s end to end with 2 workers (sweep ~25 s, triage ~50 s for
+            # 418 groups and ~8500 evaluations); 30 per group lets a 24-point case lose its extra points.
             triage=TriageBudget(calls=12_000, group_calls=30, hang_calls=0, pictures=12, safety_seconds=600.0),
-            description="every family and variant once at a small size; under a minute on 2 cores",
+            description="every family and variant once at a small size, every failure group shrunk; "
+            "about a minute and a half on 2 cores",
         ),
         "nightly": Profile(
             name="nightly",

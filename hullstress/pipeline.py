@@ -254,7 +254,7 @@ def run(
     from .corpus.baseline import compare_with_baseline, load_baseline
     from .progress import PhaseProgress, ProgressBar
     from .report.stage import write_run_report
-    from .report.writer import RowStream, new_run_dir, run_metadata, write_report
+    from .report.writer import RowStream, new_run_dir, run_metadata, write_report, write_run_json
     from .triage.stage import triage_failures
 
     say = echo or (lambda line: None)
@@ -349,6 +349,9 @@ def run(
         finally:
             report_bar.close()
         the_run.seconds["report"] = time.perf_counter() - t0
+        the_run.seconds["total"] = time.perf_counter() - started
+        the_run.meta = _metadata(the_run, options, run_metadata)
+        write_run_json(run_dir, the_run.meta)
         if signals.signum is not None and the_run.signal is None:
             # Interrupted while the report was being written: it is complete, but say so.
             the_run.signal = signals.signum

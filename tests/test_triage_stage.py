@@ -19,7 +19,7 @@ from hullstress.options import TriageBudget
 from hullstress.plugins import load_plugin
 from hullstress.results import to_frame
 from hullstress.triage import Signature, canonical_key, run_config, signature_of
-from hullstress.triage.stage import plan_waves, triage_failures
+from hullstress.triage.stage import plan_chains, triage_failures
 
 PLANTED = np.array([[0.3, 0.1], [2.7, 0.45], [2.2, 3.3], [0.1, 2.9]])
 
@@ -156,13 +156,13 @@ def test_an_interrupt_keeps_the_best_cases_so_far(sweep):
             assert signature_of(run_config(rec.case, rec.config, timeout=2.0)) == rec.signature
 
 
-def test_waves_hold_back_groups_of_a_kind_seen_before():
+def test_chains_hold_back_groups_of_a_kind_seen_before():
     from types import SimpleNamespace
 
     error = Signature("a", "off", "n/a", status="error", error="KeyError")
     fail = Signature("b", "off", "n/a", checks="containment", severity="gross")
-    groups = [SimpleNamespace(dim=2, signature=error) for _ in range(6)] + [SimpleNamespace(dim=2, signature=fail)]
+    groups = [SimpleNamespace(dim=2, signature=error) for _ in range(7)] + [SimpleNamespace(dim=2, signature=fail)]
     groups.append(SimpleNamespace(dim=3, signature=error))
-    waves = plan_waves(groups)
-    assert waves == [[0, 6, 7], [1], [2, 3], [4, 5]]
-    assert sorted(i for w in waves for i in w) == list(range(len(groups)))
+    chains = plan_chains(groups)
+    assert chains == [[[0], [1], [2, 3], [4, 5, 6]], [[7]], [[8]]]
+    assert sorted(i for chain in chains for wave in chain for i in wave) == list(range(len(groups)))

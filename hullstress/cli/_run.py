@@ -50,7 +50,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
         "130 interrupted (the partial report is written).",
     )
     p.add_argument("--profile", choices=sorted(PROFILES), default="quick",
-                   help="sweep size: quick (default, under a minute) or nightly (about 30 minutes on 2 cores)")
+                   help="sweep size: quick (default, about a minute and a half) or nightly (about 30 minutes of "
+                   "sweep on 2 cores)")
     p.add_argument("--algorithm", action="append", default=[], metavar="NAME",
                    help="run only this algorithm (repeatable; default: every registered one; see `list algorithms`)")
     p.add_argument("--generator", action="append", default=[], metavar="NAME",

@@ -24,7 +24,7 @@ from ..errors import UsageError
 from ..files import atomic_write_text, atomic_write_with
 from ..results import ROW_COLUMNS, ResultRow
 
-__all__ = ["new_run_dir", "RowStream", "write_report", "package_versions"]
+__all__ = ["new_run_dir", "RowStream", "write_report", "write_run_json", "package_versions"]
 
 
 def new_run_dir(out: str | os.PathLike[str], run_name: str) -> Path:
@@ -124,10 +124,15 @@ def write_report(run_dir: Path, df: pd.DataFrame, meta: Mapping[str, Any]) -> di
 
     write_sweep_tables(run_dir, df)
     written["summary"] = write_summary(run_dir, summary_markdown(df, meta))
-    meta_path = run_dir / "run.json"
-    atomic_write_text(meta_path, json.dumps(meta, indent=2, sort_keys=True, default=str) + "\n")
-    written["json"] = meta_path
+    written["json"] = write_run_json(run_dir, meta)
     return written
+
+
+def write_run_json(run_dir: Path, meta: Mapping[str, Any]) -> Path:
+    """Write ``run.json`` alone (the pipeline adds the report's own time once it is written)."""
+    meta_path = Path(run_dir) / "run.json"
+    atomic_write_text(meta_path, json.dumps(meta, indent=2, sort_keys=True, default=str) + "\n")
+    return meta_path
 
 
 def run_metadata(

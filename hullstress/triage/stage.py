@@ -8,31 +8,35 @@ How it works
 ------------
 1. **Group** the failing rows by signature (:func:`.grouping.group_failures`),
    worst first.
-2. **Shrink in waves** (:func:`plan_waves`).  The first wave holds the first
-   group of each *kind* of failure (dimension, stage, status, failed checks
-   and severity, exception type: the signature without the config); the
-   next waves hold the next 1, 2, 4, 8 ... groups of each kind.  Before
-   shrinking its own smallest failing case, a group tries a few minimal
-   cases found in earlier waves (:data:`TRIES`: for its own kind, same
-   variant first, then for other kinds): the first on which its config
-   fails with exactly its signature becomes its start, and it then only
-   checks that no point can go.  All the shrinks of a wave run in lockstep
-   (:class:`.shrink.Shrinker`): each round gathers one candidate from every
-   unfinished shrink and runs them as one batch on a pool of isolated
-   workers (:class:`hullstress.runner.CallPool`), one job per distinct
-   candidate, so shrinks that ask about the same points share the case
-   facts.  A candidate that crashes or hangs is a row like any other
-   (``crash``, ``timeout``), never the end of triage.  Hangs are shrunk last,
-   on their own budget (each failing call lasts the whole timeout).
+2. **Shrink in chains of waves** (:func:`plan_chains`).  Groups of one
+   *kind* of failure (dimension, stage, status, failed checks and severity,
+   exception type: the signature without the config) form a chain of waves
+   of 1, 1, 2, 4, 8 ... groups; a wave starts when the one before it in its
+   chain has finished, and every chain runs at once.  Before shrinking its
+   own smallest failing case, a group tries a few minimal cases found so far
+   (:data:`TRIES`: for its own kind, same variant first, then for other
+   kinds): the first on which its config fails with exactly its signature
+   becomes its start, and it then only checks that no point can go.  All
+   running shrinks advance in lockstep (:class:`.shrink.Shrinker`): each
+   round gathers one candidate from every running shrink and runs them as
+   one batch on a pool of isolated workers
+   (:class:`hullstress.runner.CallPool`), one job per distinct candidate,
+   so shrinks that ask about the same points share the case facts.  A
+   candidate that crashes or hangs is a row like any other (``crash``,
+   ``timeout``), never the end of triage.  Hangs are shrunk last, on their
+   own budget (each failing call lasts the whole timeout).
 3. **Merge**: groups whose minimal cases coincide up to translation,
    power-of-two scaling, row and axis order (:mod:`.canonical`) form one
    :class:`~.records.Cause`.
-4. **Verify** every minimal case once more, in one batch, and gather each
-   cause's evidence (the algorithm's output for the picture).
+4. **Verify**: every shrink ends by re-running its minimal case exactly (a
+   flaky failure is marked as such); groups left unshrunk are re-run in one
+   batch.  Each cause's evidence (the algorithm's output for the picture) is
+   gathered here, so that the report runs nothing.
 
 Every decision depends on the rows alone: shrinks are budgeted in
-evaluations (:class:`~hullstress.options.TriageBudget`), waves depend on the
-groups only and a wave's starts on earlier waves only, so the same
+evaluations (:class:`~hullstress.options.TriageBudget`), chains depend on
+the groups only, and rounds, not seconds, decide when a wave starts and what
+it may try, so the same
 table gives the same causes and minimal cases whatever the number of workers
 and whatever the machine's load.  Only the wall-clock safety net, an
 interrupt, or a call near its timeout can change that, and the first two
@@ -58,11 +62,10 @@ from .evidence import output_faces, storage_kind, verify_from_storage
 from .grouping import FailureGroup, group_failures
 from .oracle import DEFAULT_TIMEOUT
 from .records import Cause, ShrinkResult, TriageRecord, TriageResult
-from .shrink import Shrinker, candidate_case
-from .shrink import shrink as shrink_case  # noqa: F401  (the stage's shrinker, for the architecture test)
+from .shrink import Question, Shrinker, candidate_case
 from .signature import Signature, signature_of
 
-__all__ = ["TriageRecord", "TriageResult", "triage_failures", "triage_one", "plan_waves", "TRIES", "Progress"]
+__all__ = ["TriageRecord", "TriageResult", "triage_failures", "triage_one", "plan_chains", "TRIES", "Progress"]
 
 #: Known minimal cases a group tries before shrinking its own case (one evaluation each): found for
 #: groups of its own kind of failure, and for groups of other kinds.
@@ -133,7 +136,9 @@ class _Triage:
     def __init__(self, pool: object, *, budget: TriageBudget, timeout: float, qhull: bool,
                  should_stop: Callable[[], bool] | None, progress: Progress | None, total: int) -> None:
         self.pool = pool
-        self.budget, self.timeout, self.qhull = budget, timeout, qhull
+        self.budget, self.qhull = budget, qhull
+        self.sweep_timeout = timeout
+        self.timeout = min(timeout, budget.call_timeout)
         self.should_stop, self.progress = should_stop, progress
         self.start = time.perf_counter()
         self.used = 0
@@ -177,86 +182,117 @@ class _Triage:
                     found[(task.case.case_id, config.label)] = row
         return [found[k] for k in keys]
 
-    def lockstep(self, shrinkers: list[Shrinker], configs: list[AlgorithmConfig], dims: list[int]) -> None:
-        """Run shrinks side by side until all have finished, one candidate of each per round."""
-        questions = [s.ask() for s in shrinkers]
-        for i, q in enumerate(questions):
-            if q is None:
-                self.done += 1
-        while True:
-            active = [i for i, q in enumerate(questions) if q is not None]
-            if not active:
-                return
-            self._check_halt()
-            rows = self.batch([(questions[i][0], dims[i], configs[i], questions[i][1]) for i in active])
-            self.rounds += 1
-            for i, row in zip(active, rows):
-                questions[i] = shrinkers[i].answer(row)
-                if questions[i] is None:
-                    self.done += 1
-                    self._report(f"round {self.rounds}")
-
     def _report(self, detail: str) -> None:
         if self.progress is not None:
             self.progress(self.done, self.total, detail)
 
-    # -- the waves -----------------------------------------------------------
+    # -- the chains of waves, in lockstep ------------------------------------
 
     def run(self, groups: list[FailureGroup], cases: dict[str, Case], results: dict[int, ShrinkResult],
             rows: dict[int, ResultRow]) -> None:
         """Shrink ``groups`` (indexed by position) into ``results``; stops only by :class:`_Halt`."""
-        known: list[_Known] = []
         regular = [i for i, g in enumerate(groups) if g.signature.status != "timeout"]
         hangs = [i for i, g in enumerate(groups) if g.signature.status == "timeout"]
-        waves = plan_waves([groups[i] for i in regular])
-        for n, wave in enumerate(waves):
-            self._report(f"wave {n + 1} of {len(waves)}")
-            members = [regular[k] for k in wave]
-            self._wave(members, groups, cases, known, results, rows, cap_limit=self.budget.group_calls)
-            self._learn(members, groups, results, known)
+        chains = [[[regular[k] for k in wave] for wave in chain] for chain in plan_chains([groups[i] for i in regular])]
+        self._lockstep(chains, groups, cases, results, rows, cap_limit=self.budget.group_calls)
         if hangs:
-            self._report("hangs")
-            self._wave(hangs, groups, cases, [], results, rows, cap_limit=self.budget.hang_calls)
+            # A hang is a call that outlasts the sweep's timeout: shrink it with that one.
+            self.timeout = self.sweep_timeout
+            self._lockstep([[hangs]], groups, cases, results, rows, cap_limit=self.budget.hang_calls, learn=False)
 
-    def _wave(self, wave: list[int], groups: list[FailureGroup], cases: dict[str, Case], known: list[_Known],
-              results: dict[int, ShrinkResult], rows: dict[int, ResultRow], *, cap_limit: int) -> None:
-        cap = min(cap_limit, max(0, self.budget.calls - self.used) // max(1, len(wave)))
-        shrinkers, configs, dims, members = [], [], [], []
-        for i in wave:
-            g, case = groups[i], cases[groups[i].smallest_case_id]
-            if cap < 1:
-                why = ("each call of a hang lasts the whole timeout and the profile allows none"
-                       if g.signature.status == "timeout" and cap_limit == 0
-                       else "the triage evaluation budget was spent on earlier groups")
-                results[i] = _unshrunk(case, g.signature, rows.get(i), f"not shrunk: {why}")
-                self.done += 1
-                continue
-            tries = [(k.points, f"the minimal case of {k.slug}") for k in _ranked(known, g, case.dim)]
-            shrinkers.append(Shrinker(case, g.signature, max_calls=cap, candidates=tries, qhull=self.qhull,
-                                      row=rows.get(i)))
-            configs.append(g.signature.config)
-            dims.append(case.dim)
-            members.append(i)
+    def _lockstep(self, chains: list[list[list[int]]], groups: list[FailureGroup], cases: dict[str, Case],
+                  results: dict[int, ShrinkResult], rows: dict[int, ResultRow], *, cap_limit: int,
+                  learn: bool = True) -> None:
+        """Run every chain's waves, one after the other within a chain, all chains side by side.
+
+        Each round asks one question of every running shrink and runs them as one batch.  When the
+        last shrink of a chain's wave finishes, the chain's next wave starts in the next round, with
+        the minimal cases known by then.  Rounds are the clock: what starts when, with which budget
+        and which cases to try, depends on the answers only.
+        """
+        known: list[_Known] = []
+        position = [0] * len(chains)  # the wave each chain is at
+        running: dict[int, tuple[Shrinker, int]] = {}  # group -> (its shrink, its chain)
+        waiting = [0] * len(chains)  # shrinks of the current wave still running, per chain
+        questions: dict[int, Question] = {}
+
+        def start(c: int) -> None:
+            while position[c] < len(chains[c]):
+                wave = chains[c][position[c]]
+                position[c] += 1
+                cap = min(cap_limit, max(0, self.budget.calls - self.used) // max(1, len(wave)))
+                for i in wave:
+                    shrinker = self._shrinker(i, groups, cases, rows, known, cap, cap_limit, results)
+                    if shrinker is None:
+                        continue
+                    question = shrinker.ask()
+                    if question is None:
+                        finish(i, shrinker)
+                        continue
+                    running[i] = (shrinker, c)
+                    questions[i] = question
+                    waiting[c] += 1
+                if waiting[c]:
+                    return
+
+        def finish(i: int, shrinker: Shrinker) -> None:
+            results[i] = shrinker.result()
+            self.done += 1
+            if learn:
+                self._learn([i], groups, results, known)
+
+        for c in range(len(chains)):
+            start(c)
         try:
-            self.lockstep(shrinkers, configs, dims)
+            while running:
+                self._check_halt()
+                order = sorted(running)
+                answers = self.batch([(questions[i][0], cases[groups[i].smallest_case_id].dim,
+                                       groups[i].signature.config, questions[i][1]) for i in order])
+                self.rounds += 1
+                self.used += len(order)
+                restart = []
+                for i, row in zip(order, answers):
+                    shrinker, c = running[i]
+                    question = shrinker.answer(row)
+                    if question is not None:
+                        questions[i] = question
+                        continue
+                    del running[i], questions[i]
+                    finish(i, shrinker)
+                    waiting[c] -= 1
+                    if waiting[c] == 0:
+                        restart.append(c)
+                for c in sorted(restart):
+                    start(c)
+                self._report(f"round {self.rounds}")
         except (_Halt, KeyboardInterrupt) as exc:
-            # The shrinks cut short keep their best case so far; their note says why.
+            # The shrinks cut short keep their best exact case so far; their note says why.
             note = exc.note if isinstance(exc, _Halt) else _INTERRUPTED
-            for shrinker in shrinkers:
-                shrinker.stop(note)
+            for i, (shrinker, _) in running.items():
+                results[i] = shrinker.stop(note)
             raise
-        finally:
-            for i, shrinker in zip(members, shrinkers):
-                self.used += shrinker.calls
-                if shrinker.finished:
-                    results[i] = shrinker.result()
+
+    def _shrinker(self, i: int, groups: list[FailureGroup], cases: dict[str, Case], rows: dict[int, ResultRow],
+                  known: list[_Known], cap: int, cap_limit: int, results: dict[int, ShrinkResult]) -> Shrinker | None:
+        """Group ``i``'s shrink, trying the known minimal cases first; None (and an unshrunk result) without budget."""
+        g, case = groups[i], cases[groups[i].smallest_case_id]
+        if cap < 1:
+            why = ("each call of a hang lasts the whole timeout and the profile allows none"
+                   if g.signature.status == "timeout" and cap_limit == 0
+                   else "the triage evaluation budget was spent on earlier groups")
+            results[i] = _unshrunk(case, g.signature, rows.get(i), f"not shrunk: {why}")
+            self.done += 1
+            return None
+        tries = [(k.points, f"the minimal case of {k.slug}") for k in _ranked(known, g, case.dim)]
+        return Shrinker(case, g.signature, max_calls=cap, candidates=tries, qhull=self.qhull, row=rows.get(i))
 
     @staticmethod
-    def _learn(wave: list[int], groups: list[FailureGroup], results: dict[int, ShrinkResult],
+    def _learn(members: list[int], groups: list[FailureGroup], results: dict[int, ShrinkResult],
                known: list[_Known]) -> None:
-        """Remember the wave's minimal cases (one per input, up to exact transforms, with every group's signature)."""
+        """Remember minimal cases (one per input, up to exact transforms, with every group's signature)."""
         seen = {k.key: k for k in known}
-        for i in wave:
+        for i in members:
             res = results.get(i)
             if res is None or not res.reproduced:
                 continue
@@ -275,32 +311,30 @@ def _kind(signature: Signature) -> tuple[str, ...]:
     return (signature.stage, signature.status, signature.checks, signature.severity, signature.error)
 
 
-def plan_waves(groups: Sequence[FailureGroup]) -> list[list[int]]:
-    """Positions of ``groups`` in waves: the first group of each kind, then the next, then 2, 4, 8 more ...
+def plan_chains(groups: Sequence[FailureGroup]) -> list[list[list[int]]]:
+    """Positions of ``groups`` in chains of waves: one chain per kind, in waves of 1, 1, 2, 4, 8 ... groups.
 
     A kind is the dimension and the failure without the config (stage,
-    status, checks, severity, exception type).  Holding back the other
-    groups of a kind lets them start from the minimal cases found first; the
-    doubling keeps the number of waves small.  Depends on the groups alone:
-    five groups of one kind and one of another make waves of 2, 1, 2 and 1.
+    status, checks, severity, exception type).  Within a chain, a wave starts
+    when the previous one has finished, so that its groups can start from the
+    minimal cases found first; the doubling keeps chains short.  Chains come
+    in the order of their first group; depends on the groups alone: five
+    groups of one kind and one of another make the chains [[0], [1], [2, 3],
+    [4]] and [[5]].
     """
     by_kind: dict[tuple, list[int]] = {}
     for i, g in enumerate(groups):
         by_kind.setdefault((g.dim, *_kind(g.signature)), []).append(i)
-    waves, taken, quota = [], 0, 1
-    first_two = 2
-    while True:
-        wave = []
-        for positions in by_kind.values():
-            wave += positions[taken:taken + quota]
-        if not wave:
-            return waves
-        waves.append(sorted(wave))
-        taken += quota
-        if first_two > 1:
-            first_two -= 1
-        else:
-            quota *= 2
+    chains = []
+    for positions in by_kind.values():
+        chain, taken, size = [], 0, 1
+        while taken < len(positions):
+            chain.append(positions[taken:taken + size])
+            taken += size
+            if len(chain) >= 2:
+                size *= 2
+        chains.append(chain)
+    return chains
 
 
 def _ranked(known: list[_Known], group: FailureGroup, dim: int) -> list[_Known]:
@@ -488,10 +522,12 @@ def _notes(groups: list[FailureGroup], chosen: list[FailureGroup], results: dict
             "same seed gives the same causes and folders.")
     else:
         notes.append("Shrinking was turned off (--no-shrink): each group shows its smallest failing case.")
-    cut = sum(1 for r in results.values() if r.exhausted)
+    cut = [r for r in results.values() if r.exhausted and r.reproduced]
     if shrink and cut:
-        notes.append(f"{cut} groups ran out of evaluations before their last pass: their cases are smaller but "
-                     "may not be minimal.")
+        simplifying = sum(1 for r in cut if "while simplifying coordinates" in r.note)
+        notes.append(f"{len(cut)} groups ran out of evaluations before their last pass: {simplifying} while "
+                     f"simplifying coordinates (no single point of their case can go), {len(cut) - simplifying} "
+                     "earlier (their cases are smaller but may not be minimal).")
     unshrunk = [r.note for r in results.values() if not r.reproduced and shrink]
     if unshrunk:
         reasons = pd.Series(unshrunk).value_counts()
