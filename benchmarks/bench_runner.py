@@ -1,10 +1,19 @@
-"""Measure the runner: speed-up from 1 to N workers, and the harness's own overhead.
+"""Measure the runner: speed-up from 1 to N workers, the harness's own overhead, and whole runs end to end.
 
 A script, not a test::
 
-    python benchmarks/bench_runner.py                      # quick profile, 1 vs 2 workers
+    python benchmarks/bench_runner.py                      # quick profile, 1 vs 2 workers: sweep and end to end
     python benchmarks/bench_runner.py --workers 1,2,4 --repeat 3
     python benchmarks/bench_runner.py --algorithm monotone-chain --generator coplanar-grid
+    python benchmarks/bench_runner.py --no-end-to-end      # the sweep only
+
+**End to end** (the second table): ``python -m hullstress run`` as a user
+runs it, in a fresh interpreter, with each worker count: generating the
+cases, the sweep, triage (shrinking, merging into causes) and the report
+(folders, pictures, summary, HTML).  Wall time of the whole command, the
+phases from its ``run.json``, and the speed-up over 1 worker.  The machine's
+load average is printed before and after: on a shared machine the absolute
+seconds move with it, the speed-ups much less.
 
 The sweep (cases x configs) is built once from the profile and the filters,
 then executed with each worker count in turn, in the same process.  The fork
@@ -26,9 +35,13 @@ Columns:
 from __future__ import annotations
 
 import argparse
+import json
 import os
+import subprocess
 import sys
+import tempfile
 import time
+from pathlib import Path
 
 from hullstress.plugins import load_plugin
 from hullstress.runner import ExecutionStats, RunnerOptions, Task, execute
@@ -77,8 +90,68 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--plugin", action="append", default=[], help="load a plug-in first (repeatable)")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--timeout", type=float, default=None, help="per-call timeout (default: the profile's)")
+    parser.add_argument("--no-sweep", action="store_true", help="skip the sweep-only measurement")
+    parser.add_argument("--no-end-to-end", action="store_true", help="skip the end-to-end measurement")
     args = parser.parse_args(argv)
+    print(f"load average before: {_load()}\n")
+    if not args.no_sweep:
+        _sweep_table(args)
+    if not args.no_end_to_end:
+        _end_to_end_table(args)
+    print(f"load average after: {_load()}")
+    return 0
 
+
+def _load() -> str:
+    try:
+        return ", ".join(f"{x:.2f}" for x in os.getloadavg()) + f" (1, 5, 15 min) on {os.cpu_count()} CPUs"
+    except OSError:
+        return "unknown"
+
+
+def _end_to_end(args: argparse.Namespace, workers: int, out: Path) -> tuple[float, dict]:
+    """One ``python -m hullstress run`` with ``workers``: its wall time and its run.json."""
+    cmd = [sys.executable, "-m", "hullstress", "run", "--profile", args.profile, "--seed", str(args.seed),
+           "--workers", str(workers), "--out", str(out), "--quiet"]
+    cmd += [f"--algorithm={a}" for a in args.algorithm] + [f"--generator={g}" for g in args.generator]
+    cmd += [f"--plugin={p}" for p in args.plugin]
+    if args.timeout is not None:
+        cmd += ["--timeout", str(args.timeout)]
+    start = time.perf_counter()
+    proc = subprocess.run(cmd, capture_output=True, text=True)
+    wall = time.perf_counter() - start
+    if proc.returncode not in (0, 1):
+        raise SystemExit(f"{' '.join(cmd)} exited {proc.returncode}: {proc.stderr[-2000:]}")
+    run_dir = Path([ln for ln in proc.stdout.splitlines() if ln.startswith("report: ")][-1].split(": ", 1)[1])
+    return wall, json.loads((run_dir / "run.json").read_text())
+
+
+def _end_to_end_table(args: argparse.Namespace) -> None:
+    results = []
+    with tempfile.TemporaryDirectory(prefix="hullstress-bench-") as tmp:
+        for workers in args.workers:
+            best: tuple[float, dict] | None = None
+            for _ in range(args.repeat):
+                got = _end_to_end(args, workers, Path(tmp) / f"w{workers}")
+                if best is None or got[0] < best[0]:
+                    best = got
+            assert best is not None
+            results.append((workers, *best))
+    print(f"## End to end: `python -m hullstress run --profile {args.profile}`, seed {args.seed}\n")
+    print("| workers | wall s | sweep s | triage s | report s | groups | causes | evaluations | speed-up |")
+    print("|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+    wall_1 = next((w for n, w, _ in results if n == 1), results[0][1])
+    for workers, wall, meta in results:
+        phases = meta.get("phase_seconds", {})
+        triage = meta.get("triage") or {}
+        print(f"| {workers} | {wall:.2f} | {phases.get('sweep', 0):.2f} | {phases.get('triage', 0):.2f} | "
+              f"{phases.get('report', 0):.2f} | {triage.get('groups', '')} | {triage.get('causes', '')} | "
+              f"{triage.get('evaluations', '')} | {wall_1 / wall:.2f}x |")
+    print()
+
+
+def _sweep_table(args: argparse.Namespace) -> None:
+    """The sweep's tasks executed in this process with each worker count (no triage, no report)."""
     for spec in args.plugin:
         load_plugin(spec)
     sweep = SweepOptions(profile=args.profile, algorithms=tuple(args.algorithm), generators=tuple(args.generator),
@@ -88,8 +161,7 @@ def main(argv: list[str] | None = None) -> int:
     build_seconds = time.perf_counter() - t0
     n_calls = sum(len(t.configs) for t in tasks)
     if not tasks:
-        print("nothing to run: no registered algorithm matches the generated cases", file=sys.stderr)
-        return 2
+        raise SystemExit("nothing to run: no registered algorithm matches the generated cases")
     warm = _warm_up(tasks)
     base = sweep.runner_options()
 
@@ -102,7 +174,7 @@ def main(argv: list[str] | None = None) -> int:
             print(f"warning: {workers} workers delivered {rows} of {n_calls} rows", file=sys.stderr)
         results.append((workers, stats, rows))
 
-    print(f"## Runner benchmark: profile `{args.profile}`, seed {args.seed}\n")
+    print(f"## The sweep alone: profile `{args.profile}`, seed {args.seed}\n")
     print(f"{len(tasks)} cases, {n_calls} calls; {os.cpu_count()} CPUs; cases built in {build_seconds:.2f} s; "
           f"fork server warm-up {warm:.2f} s (once per process, not in the table).\n")
     print("| workers | wall s | busy s | overhead s | overhead % | per call | restarts | speed-up |")
@@ -114,7 +186,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"| {workers} | {stats.wall_seconds:.2f} | {busy:.2f} | {stats.harness_overhead_seconds:.2f} | "
               f"{100 * stats.harness_overhead_fraction:.1f} | {per_call_ms:.2f} ms | {stats.worker_restarts} | "
               f"{wall_1 / stats.wall_seconds:.2f}x |")
-    return 0
+    print()
 
 
 if __name__ == "__main__":

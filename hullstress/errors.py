@@ -12,6 +12,7 @@ import errno
 import re
 import signal
 from enum import IntEnum
+from types import TracebackType
 
 __all__ = [
     "ExitStatus",
@@ -30,6 +31,7 @@ __all__ = [
     "CodeCrashed",
     "is_environment_error",
     "one_line",
+    "code_frame",
 ]
 
 
@@ -148,3 +150,69 @@ def one_line(exc: BaseException) -> str:
     text = re.split(r"\s+While executing:", str(exc), maxsplit=1)[0]
     text = " ".join(text.split())
     return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
+
+
+#: Modules of hullstress that are themselves under test: the in-house
+#: algorithms, the library adapters and the sphere method's preprocessing.
+#: Every other hullstress module is the harness.
+_UNDER_TEST = ("hullstress.algorithms", "hullstress.adapters", "hullstress.sphere")
+
+
+def _within(module: str, package: str) -> bool:
+    return module == package or module.startswith(package + ".")
+
+
+def code_frame(tb: TracebackType | None, owner: str) -> str:
+    """Where the code under test raised: ``module:line in function`` of its innermost frame.
+
+    Parameters
+    ----------
+    tb : traceback or None
+        The caught exception's ``__traceback__``.
+    owner : str
+        ``__module__`` of the algorithm's function; its package (the module
+        itself for a top-level module) is the code under test.
+
+    Returns
+    -------
+    str
+        The innermost frame in ``owner``'s package; failing that, the
+        innermost in a hullstress module under test (algorithms, adapters,
+        the sphere method); failing that, the innermost frame outside
+        hullstress's harness; ``""`` when there is none.  Module names, not
+        file paths, so the text is the same wherever the package is installed.
+
+    Examples
+    --------
+    >>> def buggy():
+    ...     return 1 / 0
+    >>> try:
+    ...     buggy()
+    ... except ZeroDivisionError as exc:
+    ...     code_frame(exc.__traceback__, __name__).split(" in ")[1]
+    'buggy'
+    """
+    frames = []  # (frame, line) from the outermost to the innermost
+    while tb is not None:
+        frames.append((tb.tb_frame, tb.tb_lineno))
+        tb = tb.tb_next
+    package = owner.rsplit(".", 1)[0] if "." in owner else owner
+    if package == "hullstress":  # an algorithm defined in a hullstress module outside the usual packages
+        package = owner
+
+    def module_of(frame: object) -> str:
+        return str(getattr(frame, "f_globals", {}).get("__name__", "") or "")
+
+    preferences = (
+        lambda m: _within(m, package),
+        lambda m: any(_within(m, p) for p in _UNDER_TEST),
+        lambda m: not _within(m, "hullstress"),
+    )
+    for wanted in preferences:
+        for frame, line in reversed(frames):
+            module = module_of(frame)
+            if module and wanted(module):
+                code = frame.f_code
+                name = getattr(code, "co_qualname", code.co_name)
+                return f"{module}:{line} in {name}"
+    return ""

@@ -41,7 +41,7 @@ import numpy as np
 from .case import Case, points_digest
 from .config import NO_EPS, AlgorithmConfig
 from .contract import FaceSet, canonical_output, normalize_output, require_face_size, reverse_orientation
-from .errors import CodeCrashed, ContractViolation, one_line
+from .errors import CodeCrashed, ContractViolation, code_frame, one_line
 from .records import CONTRACT_REASON, METHOD_REASON, Stage
 from .results import ResultRow, make_row
 from .tolerance import tolerance
@@ -116,6 +116,9 @@ class CallOutcome:
         The canonical output in the indices of ``given``.
     index_map : ndarray or None
         Row ``i`` of ``given`` is input row ``index_map[i]``.
+    frame : str
+        For ``raised``: the innermost frame of the code under test
+        (:func:`~hullstress.errors.code_frame`), part of a failure's signature.
     """
 
     kind: str
@@ -126,6 +129,7 @@ class CallOutcome:
     given: np.ndarray | None = None
     given_faces: np.ndarray | FaceSet | None = None
     index_map: np.ndarray | None = None
+    frame: str = ""
 
 
 def input_problem(points: np.ndarray, dim: int) -> str | None:
@@ -247,7 +251,7 @@ def call_algorithm(case: Case, config: AlgorithmConfig) -> CallOutcome:
         return CallOutcome("crash", error=str(exc), seconds=time.perf_counter() - start, eps_value=eps_value)
     except (Exception, RecursionError) as exc:  # the code under test may raise anything
         return CallOutcome("raised", error=one_line(exc), seconds=time.perf_counter() - start, eps_value=eps_value,
-                           **given)
+                           frame=code_frame(exc.__traceback__, spec.module), **given)
     seconds = time.perf_counter() - start
     try:
         # Faces of one or two vertices are judged once the rank is known (see judge).
@@ -359,7 +363,7 @@ def judge(case: Case, config: AlgorithmConfig, outcome: CallOutcome, facts: Case
         declined = bool(given.invalid_input or given.degenerate) and not resource
         if declined and problem:
             return method_failed(f"{problem} (the algorithm then raised {outcome.error})")
-        return row("rejected" if declined else "error", outcome.error)
+        return row("rejected" if declined else "error", outcome.error, error_frame=outcome.frame)
     if outcome.kind == "contract":
         return row("fail", f"{CONTRACT_REASON} {outcome.error}")
     if outcome.kind == "crash":

@@ -66,23 +66,54 @@ DEFAULTS = Defaults()
 
 @dataclass(frozen=True)
 class TriageBudget:
-    """Time limits of triage and of the report's pictures, in seconds.
+    """How much work triage and the report's pictures may do.
+
+    Shrinking is budgeted in **evaluations** (judged calls of the code under
+    test), never in seconds, so the same seed gives the same minimal cases
+    and failure folders on any machine, under any load and with any number
+    of workers.  The wall-clock cap is only a safety net: when it fires,
+    triage stops early and the report says that its folders may differ
+    between runs.
 
     Attributes
     ----------
-    shrink_total, shrink_per_group : float
-        Shrinking, over all groups and per group.
-    total : float
-        Triage as a whole; groups past it are listed in the tables without a
-        minimised case or folder.
-    pictures : float
-        Drawing pictures in the report (groups past it get a folder without one).
+    calls : int
+        Evaluations for the whole of triage: shrinking and the cross-checks
+        that let a group start from another group's minimal case (verifying
+        each minimal case adds one call per group).  Groups reached after it
+        is spent keep their smallest failing case, unshrunk.
+    group_calls : int
+        Evaluations for one group's shrink.
+    hang_calls : int
+        Evaluations for shrinking a ``timeout`` group, where every failing
+        call lasts the whole per-call timeout (0: such groups are not shrunk).
+    pictures : int
+        Causes that get a picture, worst first.
+    safety_seconds : float
+        Wall-clock safety net on triage.
+    call_timeout : float
+        Per-call limit for shrink candidates, in seconds (the sweep's own
+        timeout when that is shorter; hangs are shrunk with the sweep's).  A
+        candidate of a few points takes milliseconds, so this is generous,
+        and a candidate that hangs costs a round this long, not a whole
+        sweep timeout.
     """
 
-    shrink_total: float
-    shrink_per_group: float
-    total: float
-    pictures: float
+    calls: int
+    group_calls: int
+    hang_calls: int
+    pictures: int
+    safety_seconds: float
+    call_timeout: float = 2.0
+
+    def __post_init__(self) -> None:
+        for name in ("calls", "group_calls", "hang_calls", "pictures"):
+            value = getattr(self, name)
+            if not isinstance(value, int) or isinstance(value, bool) or value < 0:
+                raise UsageError(f"TriageBudget.{name} must be an integer >= 0, got {value!r}")
+        for name in ("safety_seconds", "call_timeout"):
+            if not getattr(self, name) > 0:
+                raise UsageError(f"TriageBudget.{name} must be positive, got {getattr(self, name)!r}")
 
 
 @dataclass(frozen=True)
@@ -128,8 +159,11 @@ PROFILES: Mapping[str, Profile] = MappingProxyType(
             rotate_sizes=True,
             replicates=1,
             timeout=10.0,
-            triage=TriageBudget(shrink_total=10.0, shrink_per_group=2.0, total=25.0, pictures=8.0),
-            description="every family and variant once, at sizes rotating through 8, 24 and 100 points",
+            # Measured on 2 shared cores: ~80 s end to end with 2 workers (sweep ~25 s, triage ~50 s for
+            # 418 groups and ~8500 evaluations); 30 per group lets a 24-point case lose its extra points.
+            triage=TriageBudget(calls=12_000, group_calls=30, hang_calls=0, pictures=12, safety_seconds=600.0),
+            description="every family and variant once, at sizes rotating through 8, 24 and 100 points, every "
+            "failure group shrunk",
         ),
         "nightly": Profile(
             name="nightly",
@@ -138,7 +172,8 @@ PROFILES: Mapping[str, Profile] = MappingProxyType(
             sizes=MappingProxyType({2: (16, 64, 256, 1024, 4096), 3: (16, 64, 256, 1024, 4096)}),
             replicates=2,
             timeout=30.0,
-            triage=TriageBudget(shrink_total=300.0, shrink_per_group=30.0, total=900.0, pictures=120.0),
+            triage=TriageBudget(calls=150_000, group_calls=600, hang_calls=12, pictures=100,
+                                safety_seconds=3600.0),
             # Measured worst cases (benchmarks/bench_algorithms.py): naive-2d is cubic (21650x
             # scipy at n=4096), the literal Henckel loops to its step limit on every cloud.
             max_points=MappingProxyType({"naive-2d": 1024, "henckel": 1024}),

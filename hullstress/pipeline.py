@@ -10,7 +10,8 @@ execute    each task runs in an isolated worker: preprocessing,   :func:`hullstr
 check      in the same worker, the exact checker turns the        ``checker/``, ``evaluate.judge``
            output into a verdict row
 triage     failing rows grouped by signature, one case per        :func:`hullstress.triage.triage_failures`
-           group shrunk and verified
+           group shrunk (in parallel, on a budget counted in
+           evaluations), groups merged into causes
 report     tables, summary, failure folders, HTML, JUnit;         :func:`hullstress.report.stage.write_run_report`
            reads records, runs nothing
 =========  =====================================================  ==========================
@@ -359,7 +360,7 @@ def run(
         An output folder that is read-only or not writable, found before any work.
     """
     from .corpus.baseline import compare_with_baseline, load_baseline
-    from .progress import ProgressBar
+    from .progress import PhaseProgress, ProgressBar
     from .report.writer import OutputLog, RowStream, new_run_dir, prepare_report
 
     say = echo or (lambda line: None)
@@ -376,12 +377,15 @@ def run(
     stream = RowStream(run_dir)
     log = OutputLog(run_dir)
     bar = ProgressBar(the_plan.n_calls, enabled=progress)
+    # Without a terminal (CI logs), a line per quarter of the sweep instead of the bar.
+    quarters = PhaseProgress("sweep", "calls", live=False, enabled=echo is not None and not progress)
 
     def collect(row: ResultRow) -> None:
         rows.append(row)
         stream(row)
         log(row)
         bar.update(row)
+        quarters(len(rows), the_plan.n_calls)
         if on_row is not None:
             on_row(row)
 
@@ -423,9 +427,16 @@ def run(
         # triage.
         t0 = time.perf_counter()
         if signals.signum is None:
-            say("triage: grouping failures, shrinking one case per group")
-        the_run.triage = _triage(the_run, options, signals)
+            say("triage: grouping failures by signature, shrinking one case per group, merging groups into causes")
+        triage_bar = PhaseProgress("triage", "groups", live=progress, enabled=echo is not None)
+        try:
+            the_run.triage = _triage(the_run, options, signals, triage_bar)
+        finally:
+            triage_bar.close()
         the_run.seconds["triage"] = time.perf_counter() - t0
+        if the_run.signal is None:
+            say(f"triage: {len(the_run.triage.groups)} failure groups -> {len(the_run.triage.causes)} causes "
+                f"in {the_run.seconds['triage']:.1f} s ({the_run.triage.calls} evaluations)")
         the_run.signal = signals.signum
         if the_run.signal is None and baseline is not None:
             the_run.comparison = compare_with_baseline(the_run.table, baseline)
@@ -436,7 +447,11 @@ def run(
         # report: a first signal from here on cuts the picture under way short and skips the
         # others; the rest of the report is written.  A second signal aborts it.
         say(f"report: writing {run_dir}")
-        _report(the_run, options, signals, started)
+        report_bar = PhaseProgress("report", "cause folders", live=progress, enabled=echo is not None)
+        try:
+            _report(the_run, options, signals, started, report_bar)
+        finally:
+            report_bar.close()
     return the_run
 
 
@@ -455,7 +470,7 @@ def _write_tables(the_run: Run, options: RunOptions) -> None:
             write_run_json(the_run.run_dir, the_run.meta)
 
 
-def _triage(the_run: Run, options: RunOptions, signals: _Signals) -> Any:
+def _triage(the_run: Run, options: RunOptions, signals: _Signals, progress: Any = None) -> Any:
     from .triage.records import TriageResult
     from .triage.stage import triage_failures
 
@@ -463,17 +478,19 @@ def _triage(the_run: Run, options: RunOptions, signals: _Signals) -> Any:
     t0 = time.perf_counter()
     try:
         with signals.raising():
+            runner = sweep.runner_options()
             return triage_failures(
                 the_run.table, the_run.plan.cases, budget=sweep.profile_spec.triage,
-                shrink=options.shrink and signals.signum is None, timeout=sweep.runner_options().timeout,
-                should_stop=signals.stop_requested, qhull_options=sweep.qhull_options,
+                shrink=options.shrink and signals.signum is None, timeout=runner.timeout,
+                workers=max(1, runner.workers), qhull=runner.qhull, memory_limit_mb=runner.memory_limit_mb,
+                should_stop=signals.stop_requested, progress=progress, qhull_options=sweep.qhull_options,
             )
     except KeyboardInterrupt:  # between groups or while grouping: nothing triaged is lost but this step
         return TriageResult(groups=[], notes=["Triage was interrupted before it grouped the failures."],
                             seconds=time.perf_counter() - t0, stopped=True)
 
 
-def _report(the_run: Run, options: RunOptions, signals: _Signals, started: float) -> None:
+def _report(the_run: Run, options: RunOptions, signals: _Signals, started: float, progress: Any = None) -> None:
     from .report.stage import write_run_report
     from .report.writer import run_metadata, write_run_json
 
@@ -485,8 +502,8 @@ def _report(the_run: Run, options: RunOptions, signals: _Signals, started: float
         with _noting_refusals(the_run):
             the_run.report = write_run_report(
                 the_run.run_dir, the_run.table, the_run.meta, the_run.triage,
-                picture_budget=sweep.profile_spec.triage.pictures, plugins=options.plugins,
-                timeout=sweep.runner_options().timeout, junit_path=options.junit, pictures=options.pictures,
+                pictures=sweep.profile_spec.triage.pictures if options.pictures else 0, plugins=options.plugins,
+                timeout=sweep.runner_options().timeout, junit_path=options.junit, progress=progress,
                 comparison=the_run.comparison, baseline_label=options.baseline,
                 should_stop=signals.stop_requested, registration=options.registration,
                 tables_written=not the_run.environment_errors, interruptible=signals.raising,
@@ -519,7 +536,11 @@ def _metadata(the_run: Run, options: RunOptions, run_metadata: Callable[..., dic
                "budget_exhausted": bool(stats.budget_exhausted) if stats else False,
                "runner": stats.as_dict() if stats else None,
                "phase_seconds": {k: round(v, 3) for k, v in the_run.seconds.items()},
-               "not_reached": _not_reached(the_run)},
+               "not_reached": _not_reached(the_run),
+               "triage": None if the_run.triage is None else {
+                   "groups": len(the_run.triage.groups), "causes": len(the_run.triage.causes),
+                   "evaluations": the_run.triage.calls, "stopped": the_run.triage.stopped,
+                   "safety_net": the_run.triage.safety_net}},
     )
 
 

@@ -14,7 +14,7 @@ from typing import Any, TextIO
 
 from .results import ResultRow
 
-__all__ = ["ProgressBar", "progress_enabled"]
+__all__ = ["ProgressBar", "PhaseProgress", "progress_enabled"]
 
 #: Statuses that count as failures (as in the report).
 _FAILED = frozenset(("fail", "error", "timeout", "crash"))
@@ -153,3 +153,76 @@ def _make_tqdm(total: int, stream: TextIO) -> Any:
         # tqdm puts ", " before the postfix: "hullstress: 120/4000 calls, 3 failed |###   | 00:45 left"
         bar_format="{desc}: {n_fmt}/{total_fmt} calls{postfix} |{bar}| {remaining} left",
     )
+
+
+class PhaseProgress:
+    """Progress of a phase after the sweep (triage, report) on stderr: ``done/total`` units and a detail.
+
+    On a terminal the line is redrawn in place (at most every half second);
+    elsewhere (CI logs, a redirected stderr) one line is written at each
+    quarter, so a log shows that the phase moves without filling up.
+
+    Parameters
+    ----------
+    phase : str
+        ``triage``, ``report``.
+    unit : str
+        What is counted (``groups``, ``folders``).
+    stream : text stream, optional
+        Default stderr.
+    live : bool, optional
+        Redraw in place; default :func:`progress_enabled` of ``stream``.
+    enabled : bool
+        False draws nothing (``--quiet``).
+
+    Examples
+    --------
+    >>> import io
+    >>> out = io.StringIO()
+    >>> p = PhaseProgress("triage", "groups", stream=out, live=False)
+    >>> for k in range(1, 5):
+    ...     p(k, 4, "wave 1 of 1")
+    >>> p.close()
+    >>> print(out.getvalue().strip())
+    hullstress triage: 1/4 groups (wave 1 of 1)
+    hullstress triage: 2/4 groups (wave 1 of 1)
+    hullstress triage: 3/4 groups (wave 1 of 1)
+    hullstress triage: 4/4 groups (wave 1 of 1)
+    """
+
+    def __init__(self, phase: str, unit: str, *, stream: TextIO | None = None, live: bool | None = None,
+                 enabled: bool = True) -> None:
+        self.phase, self.unit = phase, unit
+        self.stream = sys.stderr if stream is None else stream
+        self.live = progress_enabled(self.stream) if live is None else bool(live)
+        self.enabled = enabled
+        self._last_draw = 0.0
+        self._last_quarter = -1
+        self._drawn = False
+
+    def line(self, done: int, total: int, detail: str = "") -> str:
+        return f"hullstress {self.phase}: {done}/{total} {self.unit}" + (f" ({detail})" if detail else "")
+
+    def __call__(self, done: int, total: int, detail: str = "") -> None:
+        if not self.enabled or total <= 0:
+            return
+        if self.live:
+            now = time.monotonic()
+            if now - self._last_draw >= _REDRAW_SECONDS or done >= total:
+                self._last_draw = now
+                self.stream.write("\r\x1b[2K" + self.line(done, total, detail))
+                self.stream.flush()
+                self._drawn = True
+            return
+        quarter = 4 * done // total
+        if quarter > self._last_quarter:
+            self._last_quarter = quarter
+            self.stream.write(self.line(done, total, detail) + "\n")
+            self.stream.flush()
+
+    def close(self) -> None:
+        """End a redrawn line so later output starts on a fresh one."""
+        if self.enabled and self.live and self._drawn:
+            self.stream.write("\n")
+            self.stream.flush()
+        self._drawn = False

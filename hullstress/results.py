@@ -27,8 +27,8 @@ STATUSES = ("pass", "fail", "rejected", "error", "timeout", "crash")
 
 _PROVENANCE = ("case_id", "generator", "params", "transform", "dim", "n_points", "size", "seed", "source")
 _CONFIG = ("algorithm", "origin", "sphere", "eps", "config")
-_OUTCOME = ("status", "stage", "sphere_method", "reason", "seconds", "check_seconds", "eps_value", "degenerate",
-            "invalid_input", "call_output")
+_OUTCOME = ("status", "stage", "sphere_method", "reason", "error_frame", "seconds", "check_seconds", "eps_value",
+            "degenerate", "invalid_input", "call_output")
 
 #: Column order of every results table.
 ROW_COLUMNS = _PROVENANCE + _CONFIG + _OUTCOME + VERDICT_COLUMNS
@@ -84,6 +84,7 @@ def make_row(
     verdict: Verdict | None = None,
     origin: str | None = None,
     call_output: str = "",
+    error_frame: str = "",
 ) -> ResultRow:
     """Assemble a :class:`ResultRow` from its parts.
 
@@ -108,6 +109,9 @@ def make_row(
     call_output : str
         What the call wrote on stdout and stderr (a library's warnings, a
         program's messages), its tail, captured by the runner.
+    error_frame : str
+        For an exception: the innermost frame of the code under test that
+        raised it (``module:line in function``).
     """
     if status not in STATUSES:
         raise ValueError(f"status must be one of {STATUSES}, got {status!r}")
@@ -136,6 +140,7 @@ def make_row(
         "stage": stage.value,
         "sphere_method": sphere_method,
         "reason": " ".join(str(reason).split())[:500],
+        "error_frame": error_frame,
         "seconds": float(seconds),
         "check_seconds": float(check_seconds),
         "eps_value": eps_value,
@@ -165,7 +170,7 @@ def to_frame(rows: Iterable[ResultRow]) -> pd.DataFrame:
         df[col] = pd.to_numeric(df[col], errors="coerce").astype("Int64")
     for col in ("seconds", "check_seconds", "eps_value", "max_violation", "distround", "volume", "qhull_volume"):
         df[col] = pd.to_numeric(df[col], errors="coerce").astype("float64")
-    for col in ("qhull_agreement", "failed_checks", "severity", "qhull_options", "offending", "reason",
+    for col in ("qhull_agreement", "failed_checks", "severity", "qhull_options", "offending", "reason", "error_frame",
                 "invalid_input", "transform", "stage", "sphere_method", "call_output"):
         df[col] = df[col].astype("string")
     return df

@@ -66,7 +66,8 @@ def test_points_file_only_run_writes_report_and_exits_0(tmp_path, good_plugin, s
     assert set(df["generator"]) == {"file"} and set(df["status"]) == {"pass"}
     meta = json.loads((run_dir / "run.json").read_text())
     assert meta["complete"] is True and meta["seed"] == 0 and "numpy" in meta["versions"]
-    assert "Failures by algorithm x variant x family" in (run_dir / "summary.md").read_text()
+    assert "[failures_by_config_family.csv](failures_by_config_family.csv)" in (run_dir / "summary.md").read_text()
+    assert (run_dir / "failures_by_config_family.csv").is_file() and (run_dir / "status_by_config.csv").is_file()
     assert not (run_dir / "results.partial.csv").exists()
 
 

@@ -8,9 +8,10 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from hullstress.case import Case
 from hullstress.report.failures import FailureRecord
 from hullstress.report.junit import junit_xml, write_junit
-from hullstress.triage import Signature, group_failures
+from hullstress.triage import Cause, ShrinkResult, TriageRecord, group_failures
 
 
 def _table() -> pd.DataFrame:
@@ -28,13 +29,16 @@ def _table() -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def _record(sig: Signature, group, points) -> FailureRecord:
-    return FailureRecord(
-        signature=sig, folder=Path("/tmp/x") / sig.slug, command=f"python -m hullstress run --algorithm {sig.algorithm}",
-        points=np.asarray(points), original_size=12, minimal_size=len(points), shrunk=True, shrink_calls=40,
-        shrink_seconds=0.5, note="", verified=True, reason="1 point outside", failed_checks="containment",
-        offending={"containment": [2]}, picture=None, group=group,
-    )
+def _record(group, points) -> FailureRecord:
+    sig = group.signature
+    case = Case.from_points(points, family="grid")
+    shrunk = ShrinkResult(case=case, original=case, signature=sig, original_size=12, minimal_size=len(points),
+                          calls=40, seconds=0.5, reproduced=True)
+    triaged = TriageRecord(signature=sig, config=sig.config, group=group, shrink=shrunk, faces=None, faces_note="",
+                           storage="csv", verified=True)
+    cause = Cause(key="k", records=(triaged,))
+    return FailureRecord(cause=cause, folder=Path("/tmp/x") / sig.slug,
+                         command=f"/usr/bin/python3 -m hullstress reproduce /tmp/x/{sig.slug}", points=np.asarray(points))
 
 
 def test_one_testcase_per_config_and_family_with_failure_counts():
@@ -64,10 +68,10 @@ def test_one_testcase_per_config_and_family_with_failure_counts():
 
 def test_failures_carry_the_minimal_case_exactly_and_the_command(tmp_path):
     table = _table()
-    groups = {(g.signature.sphere, g.signature.family): g for g in group_failures(table)}
+    groups = {(g.signature.sphere, g.signature.status): g for g in group_failures(table)}
     points = np.array([[0.1, 1e-300], [-3.0000000000000004, 2.0], [5e-324, -0.0]])
-    g = groups[("off", "grid")]
-    rec = _record(g.signature, g, points)
+    g = groups[("off", "fail")]
+    rec = _record(g, points)
     path = write_junit(tmp_path / "sub" / "junit.xml", table, [rec])
     doc = ET.parse(path).getroot()
     case = [c for c in doc.iter("testcase") if c.get("classname") == "a[sphere=off,eps=n/a]" and c.get("name") == "grid"][0]

@@ -13,6 +13,7 @@ import os
 import shlex
 import shutil
 import subprocess
+import sys
 import textwrap
 from html.parser import HTMLParser
 from pathlib import Path
@@ -109,11 +110,11 @@ def _finalize(run_dir, table, cases, meta, *, budget: TriageBudget | None = None
               junit_path=None, plugins=(), pictures: bool = True) -> dict:
     """The triage stage, then the report stage, as the pipeline runs them."""
     budget = budget or PROFILES["quick"].triage
-    triage = triage_failures(table, cases, budget=budget, shrink=shrink)
-    files = write_run_report(run_dir, table, meta, triage, picture_budget=budget.pictures, plugins=plugins,
-                             junit_path=junit_path, pictures=pictures)
+    triage = triage_failures(table, cases, budget=budget, shrink=shrink, workers=2)
+    files = write_run_report(run_dir, table, meta, triage, pictures=budget.pictures if pictures else 0,
+                             plugins=plugins, junit_path=junit_path)
     return {"groups": triage.groups, "records": files.records, "notes": files.notes, "html": files.html,
-            "findings_csv": files.findings_csv, "junit": files.junit}
+            "findings_csv": files.findings_csv, "junit": files.junit, "triage": triage}
 
 
 class _Structure(HTMLParser):
@@ -194,7 +195,7 @@ def failing_run(tmp_path_factory, plugin):
     tmp = tmp_path_factory.mktemp("report-run")
     run_dir, result, meta = _sweep(tmp, plugin, ("test-report-dropper", "test-report-raiser",
                                                  "test-report-holey", "test-report-good"))
-    budget = TriageBudget(shrink_total=40.0, shrink_per_group=15.0, total=120.0, pictures=60.0)
+    budget = TriageBudget(calls=5000, group_calls=400, hang_calls=0, pictures=60, safety_seconds=600.0)
     (tmp / "ci").mkdir()
     out = _finalize(run_dir, result.table, result.cases, meta, budget=budget, junit_path=tmp / "ci" / "junit.xml",
                     plugins=[str(plugin)])
@@ -206,25 +207,30 @@ def test_report_html_is_self_contained_and_every_picture_decodes(failing_run):
     parser = _check_html(out["html"])
     records = out["records"]
     assert len(records) >= 3
-    # One section per failure group, each with its picture.
+    # One section per cause, each with its picture.
     for rec in records:
-        assert rec.signature.slug in parser.ids
+        assert rec.cause.slug in parser.ids
     assert len(parser.images) == len(records)
     text = " ".join(parser.text)
     for rec in records:
         assert rec.command in text
     assert "Findings" in text and "Failure rates by algorithm x variant x family" in text
-    assert "budget 40 s in total and 15 s per group" in text
+    assert "of 5000 evaluations used (400 per group at most)" in text
+    for g in out["groups"]:
+        assert g.signature.label in text  # every group listed, linked to its cause
 
 
-def test_every_group_has_a_complete_failure_folder(failing_run):
+def test_every_cause_has_a_complete_failure_folder(failing_run):
     run_dir, result, out = failing_run
     table = result.table
     folders = sorted(p.name for p in (run_dir / "failures").iterdir() if p.is_dir())
-    assert folders == sorted(r.signature.slug for r in out["records"])
+    assert folders == sorted(r.cause.slug for r in out["records"])
     expected_groups = {(r.algorithm, r.sphere, r.eps) for r in table[table["status"] != "pass"].itertuples()}
     assert {(g.signature.algorithm, g.signature.sphere, g.signature.eps) for g in out["groups"]} == expected_groups
     assert not any(g.signature.algorithm == "test-report-good" for g in out["groups"])
+    # Every group is in exactly one cause.
+    members = [m.signature.slug for r in out["records"] for m in r.cause.records]
+    assert sorted(members) == sorted(g.slug for g in out["groups"])
     for rec in out["records"]:
         folder = rec.folder
         for name in ("points.npy", "points.csv", "case.json", "faces.json", "verdict.json", "picture.png",
@@ -237,20 +243,23 @@ def test_every_group_has_a_complete_failure_folder(failing_run):
         assert meta["minimal_size"] == len(npy) <= meta["original_size"] == 12
         assert meta["signature"] == rec.signature.as_dict()
         assert meta["verified"] is True
+        assert [m["config"] for m in meta["members"]] == list(rec.cause.configs)
+        assert "seconds" not in json.dumps(meta)  # nothing that depends on the machine's speed
         assert (folder / "reproduce.txt").read_text().strip() == rec.command
         verdict = json.loads((folder / "verdict.json").read_text())
         faces = json.loads((folder / "faces.json").read_text())
-        if rec.signature.check == "error":
+        if rec.signature.status == "error":
             assert verdict["status"] == "error" and faces["faces"] is None
+            assert verdict["error_frame"] == rec.signature.frame and rec.signature.frame.endswith(" in raiser")
         else:
-            assert verdict["status"] == "fail" and rec.signature.check in verdict["failed_checks"].split(",")
+            assert verdict["status"] == "fail" and verdict["failed_checks"] == rec.signature.checks
             assert faces["faces"]
         assert (folder / "picture.png").read_bytes()[:8] == PNG_SIGNATURE
 
 
 def test_planted_failures_shrink_small(failing_run):
     _, _, out = failing_run
-    sizes = {r.signature.algorithm: r.minimal_size for r in out["records"]}
+    sizes = {m.signature.algorithm: m.shrink.minimal_size for r in out["records"] for m in r.cause.records}
     assert sizes["test-report-raiser"] == 3  # one far-left point plus two to make it non-degenerate
     assert sizes["test-report-dropper"] <= 4
     assert sizes["test-report-holey"] <= 5
@@ -259,12 +268,14 @@ def test_planted_failures_shrink_small(failing_run):
 def test_every_reproduce_command_exits_1_as_printed(failing_run, tmp_path):
     _, _, out = failing_run
     commands = [r.command for r in out["records"]]
+    assert all(shlex.split(c)[:4] == [sys.executable, "-m", "hullstress", "reproduce"] for c in commands)
     # From an unrelated directory: the commands must not depend on the cwd.
     procs = [subprocess.Popen(cmd, shell=True, cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                               text=True) for cmd in commands]
     for cmd, proc in zip(commands, procs):
         stdout, stderr = proc.communicate(timeout=180)
         assert proc.returncode == 1, (cmd, stdout[-2000:], stderr[-2000:])
+        assert "the same failure as recorded" in stdout
 
 
 def test_summary_findings_and_junit(failing_run):
@@ -272,11 +283,15 @@ def test_summary_findings_and_junit(failing_run):
 
     run_dir, result, out = failing_run
     summary = (run_dir / "summary.md").read_text()
-    assert summary.startswith("# hullstress run")  # write_report's part is kept
-    assert f"## Failure groups ({len(out['groups'])})" in summary
+    assert summary.startswith("# hullstress run")
+    assert f"{len(out['groups'])} failure groups" in summary and "## Top causes" in summary
     assert "## Findings" in summary and "sphere projection" in summary
     for rec in out["records"]:
-        assert rec.command in summary
+        assert f"]({rec.folder.relative_to(run_dir).as_posix()}/)" in summary  # a link to each folder
+    causes = pd.read_csv(run_dir / "causes.csv")
+    assert list(causes["slug"]) == [r.cause.slug for r in out["records"]]
+    groups = pd.read_csv(run_dir / "groups.csv")
+    assert sorted(groups["slug"]) == sorted(g.slug for g in out["groups"])
     findings = pd.read_csv(out["findings_csv"])
     assert set(findings["algorithm"]) == set(result.table["algorithm"])
     raiser = findings[findings["algorithm"] == "test-report-raiser"].iloc[0]
@@ -287,7 +302,10 @@ def test_summary_findings_and_junit(failing_run):
     assert pd.isna(findings[findings["algorithm"] == "test-report-good"].iloc[0]["eps_fixed"])
     doc = ET.parse(out["junit"]).getroot()
     failing = {(c.get("classname"), c.get("name")) for c in doc.iter("testcase") if c.find("failure") is not None}
-    assert failing == {(g.signature.config.label, g.signature.family) for g in out["groups"]}
+    assert failing == {(g.signature.config.label, f) for g in out["groups"] for f in g.family_names}
+    for case in doc.iter("testcase"):
+        if case.find("failure") is not None:
+            assert "reproduce: " in case.find("failure").text
     index = json.loads((run_dir / "failures" / "index.json").read_text())
     assert len(index["folders"]) == len(out["records"])
 
@@ -306,6 +324,7 @@ def test_no_shrink_keeps_the_smallest_case(tmp_path, plugin):
     out = _finalize(run_dir, result.table, result.cases, meta, shrink=False, pictures=False)
     assert out["records"] and all(r.minimal_size == r.original_size == 12 for r in out["records"])
     assert all(not r.shrunk and "--no-shrink" in r.note for r in out["records"])
+    assert len(out["records"]) == len(out["groups"])  # nothing was minimised, so nothing merges
     assert "Shrinking was turned off" in out["html"].read_text()
 
 
@@ -323,28 +342,24 @@ def test_report_renders_in_headless_chromium(failing_run, tmp_path):
     assert shot.read_bytes()[:8] == PNG_SIGNATURE
 
 
-def test_time_budgets_drop_pictures_then_folders_and_say_so(tmp_path, plugin):
+def test_evaluation_budgets_leave_groups_unshrunk_and_pictures_to_the_top_causes(tmp_path, plugin):
     run_dir, result, meta = _sweep(tmp_path, plugin, ("test-report-raiser", "test-report-dropper"))
-    no_pictures = TriageBudget(shrink_total=0.0, shrink_per_group=0.0, total=60.0, pictures=0.0)
-    out = _finalize(run_dir, result.table, result.cases, meta, budget=no_pictures)
-    assert len(out["records"]) == len(out["groups"]) == 3
-    assert all(r.picture is None and not (r.folder / "picture.png").exists() for r in out["records"])
-    assert all("shrink budget was spent" in r.note for r in out["records"])
-    parser = _check_html(out["html"])
-    assert parser.images == []
-    assert any("3 groups have no picture" in n for n in out["notes"])
+    none = TriageBudget(calls=0, group_calls=100, hang_calls=0, pictures=1, safety_seconds=600.0)
+    out = _finalize(run_dir, result.table, result.cases, meta, budget=none)
+    assert len(out["records"]) == len(out["groups"]) == 3  # every group still gets a folder, unshrunk
+    assert all(not r.shrunk and "evaluation budget was spent" in r.note for r in out["records"])
+    assert sum(r.picture is not None for r in out["records"]) == 1
+    assert all((r.folder / "picture.png").exists() == (r.picture is not None) for r in out["records"])
+    assert any("Pictures are drawn for the top 1 causes" in n for n in out["notes"])
+    assert any("3 groups keep their smallest failing case unshrunk" in n for n in out["notes"])
 
-    nothing = TriageBudget(shrink_total=0.0, shrink_per_group=0.0, total=0.0, pictures=0.0)
+    tight = TriageBudget(calls=5000, group_calls=3, hang_calls=0, pictures=0, safety_seconds=600.0)
     run2 = tmp_path / "run2"
     run2.mkdir()
-    out = _finalize(run2, result.table, result.cases, meta, budget=nothing)
-    assert out["records"] == []
-    assert any("3 more failure groups have no folder because the triage time budget" in n for n in out["notes"])
-    parser = _check_html(out["html"])
-    text = " ".join(parser.text)
-    for g in out["groups"]:
-        assert g.signature.label in text  # still listed, without a section
-        assert g.slug not in parser.ids
+    out = _finalize(run2, result.table, result.cases, meta, budget=tight)
+    assert all(r.shrunk and r.shrink_calls <= 3 for r in out["records"])
+    assert any("ran out of evaluations" in n for n in out["notes"])
+    assert all(r.picture is None for r in out["records"])
 
 
 PICTURE_INPUTS = [

@@ -25,7 +25,7 @@ from hullstress._registry import ALGORITHMS, GENERATORS
 from hullstress.errors import UsageError
 from hullstress.plugins import load_plugin
 from hullstress.results import ROW_COLUMNS, STATUSES, TIMING_COLUMNS, to_frame
-from hullstress.runner import RunnerOptions, Task, execute, run_one
+from hullstress.runner import CallPool, RunnerOptions, Task, execute, run_one
 from hullstress.sweep import sort_table
 
 from _processes import alive
@@ -372,6 +372,38 @@ def test_run_one_reuses_its_worker_until_it_dies(plugin):
     for _ in range(10):
         assert run_one(case, AlgorithmConfig(P + "ok"), timeout=5.0, qhull=False).status == "pass"
     assert (time.perf_counter() - start) / 10 < 0.25  # a round trip, not a new process per call
+
+
+# -- CallPool (parallel triage) -----------------------------------------------------
+
+
+def test_call_pool_returns_rows_in_task_order_and_survives_crashes_and_hangs(plugin):
+    cases = _cases(3)
+    tasks = [Task(0, cases[0], (AlgorithmConfig(P + "ok"), AlgorithmConfig(P + "segfault"))),
+             Task(1, cases[1], (AlgorithmConfig(P + "hang"),)),
+             Task(2, cases[2], (AlgorithmConfig(P + "raise"), AlgorithmConfig(P + "ok"))),
+             Task(3, cases[0], (AlgorithmConfig(P + "pid"),))]  # the same case again: merged into one job
+    with CallPool(2, memory_limit_mb=None) as pool:
+        assert pool.workers == 2
+        rows = pool.run(tasks, timeout=1.0, qhull=False)
+        assert [[r.status for r in task_rows] for task_rows in rows] == [
+            ["pass", "crash"], ["timeout"], ["error", "pass"], ["error"]]
+        assert [[r["config"] for r in task_rows] for task_rows in rows] == [
+            [c.label for c in t.configs] for t in tasks]
+        assert rows[0][1]["reason"] == "killed by signal 11 (SIGSEGV)"
+        # The pool goes on after deaths, with the same results for the same calls.
+        again = pool.run(tasks[2:3], timeout=1.0, qhull=False)
+        assert [r.status for r in again[0]] == ["error", "pass"]
+        assert pool.stats.worker_restarts >= 2
+        assert pool.run([], timeout=1.0) == []
+
+
+def test_call_pool_uses_every_worker(plugin):
+    cases = _cases(12)
+    with CallPool(2, memory_limit_mb=None) as pool:
+        rows = pool.run([Task(i, c, (AlgorithmConfig(P + "pid"),)) for i, c in enumerate(cases)],
+                        timeout=5.0, qhull=False)
+    assert len({r[0]["reason"] for r in rows}) == 2
 
 
 # -- bad options -------------------------------------------------------------------

@@ -62,7 +62,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
         + EXIT_STATUS_HELP,
     )
     p.add_argument("--profile", choices=sorted(PROFILES), default="quick",
-                   help="sweep size: quick (default, under a minute) or nightly (about 30 minutes on 2 cores)")
+                   help="sweep size: quick (default, about a minute and a half) or nightly (about 30 minutes of "
+                   "sweep on 2 cores)")
     p.add_argument("--algorithm", action="append", default=[], metavar="NAME",
                    help="run only this algorithm (repeatable; default: every registered one; see `list algorithms`)")
     p.add_argument("--generator", action="append", default=[], metavar="NAME[:KEY=VALUE,...]",
@@ -165,11 +166,12 @@ def run_command(args: argparse.Namespace) -> int:
 
 
 def _print_summary(the_run: Any, args: argparse.Namespace, *, quiet: bool) -> None:
-    """The terminal's last lines: failures by config, status counts, baseline, corpus, hints, report path.
+    """The terminal's last lines, like pytest's short summary: the top causes and their folders, then the totals.
 
     Results go to stdout; what needs the user's attention (notes, hints, an
     interrupt, a refused write, no work done) to stderr.
     """
+    from ..report.summary import TABLES, TOP_CAUSES
     from ..report.tables import failure_counts
 
     for note in the_run.plan.notes:
@@ -177,21 +179,33 @@ def _print_summary(the_run: Any, args: argparse.Namespace, *, quiet: bool) -> No
     table = the_run.table
     counts = table["status"].value_counts()
     line = ", ".join(f"{counts.get(s, 0)} {s}" for s in ("pass", "fail", "rejected", "error", "timeout", "crash"))
+    triage = the_run.triage
+    report = the_run.report
+    folders = {r.cause.slug: r.folder for r in report.records} if report is not None else {}
+    if not quiet and triage is not None and triage.causes:
+        causes = triage.causes
+        shown = min(TOP_CAUSES, len(causes))
+        print(_rule(f"short summary: top {shown} of {len(causes)} causes"))
+        for rank, cause in enumerate(causes[:shown], start=1):
+            size = f"{cause.minimal_size} points" + ("" if cause.minimised else " (not shrunk)")
+            print(f"CAUSE {rank}: {cause.failures} failed in {len(cause.families)} "
+                  f"famil{'y' if len(cause.families) == 1 else 'ies'}, {size}: {cause.headline}")
+            if cause.slug in folders:
+                print(f"    {folders[cause.slug]}")
+        if len(causes) > shown:
+            print(f"... {len(causes) - shown} more causes in {the_run.run_dir / TABLES['causes']}")
     if not quiet and len(table):
         by_config = failure_counts(table)
-        worst = by_config.groupby(["algorithm", "sphere", "eps"], observed=True)["failed"].sum()
-        worst = worst[worst > 0].sort_values(ascending=False).head(8)
-        if len(worst):
-            print("failures by algorithm config:")
-            for (alg, sph, eps), n in worst.items():
-                print(f"  {alg}[sphere={sph},eps={eps}]: {n}")
         method, internal = int(by_config["method_failed"].sum()), int(by_config["internal_errors"].sum())
         if method or internal:
             print(f"not the algorithms': {method} failures of the sphere method or eps set-up (stage preprocess), "
                   f"{internal} internal errors (stage check)")
     state = "" if the_run.complete and not the_run.interrupted else " (INCOMPLETE)"
     wall = the_run.seconds.get("sweep", 0.0)
-    print(f"{len(table)}/{the_run.plan.n_calls} calls in {wall:.1f} s: {line}{state}")
+    tail = ""
+    if triage is not None and triage.groups:
+        tail = f"; {len(triage.groups)} failure groups, {len(triage.causes)} causes"
+    print(f"{len(table)}/{the_run.plan.n_calls} calls in {wall:.1f} s: {line}{tail}{state}")
     if the_run.comparison is not None:
         states = the_run.comparison["state"].value_counts()
         print(f"against baseline {args.baseline}: " + ", ".join(
@@ -214,3 +228,10 @@ def _print_summary(the_run: Any, args: argparse.Namespace, *, quiet: bool) -> No
     elif status == EXIT_NO_WORK:
         print(f"hullstress: no work done: not one of {the_run.plan.n_calls} planned calls ran"
               + (f" within --time-budget {args.time_budget:g} s" if args.time_budget else ""), file=sys.stderr)
+
+
+def _rule(title: str, width: int = 79) -> str:
+    """``===== title =====`` across the terminal's usual width, as pytest draws its section lines."""
+    text = f" {title} "
+    left = max(3, (width - len(text)) // 2)
+    return "=" * left + text + "=" * max(3, width - left - len(text))

@@ -28,8 +28,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
         "shrink",
         help="minimise one failing case (points file + algorithm config)",
         description="Run one algorithm config on a points file; if it fails, shrink the points to a small "
-        "set that fails the same way (ddmin over points, then fewer mantissa bits and power-of-two scaling) "
-        "and write a failure folder with the minimal case, picture and reproduce command. "
+        "set that fails with exactly the same signature (delete points, then fewer mantissa bits and "
+        "power-of-two scaling) and write a failure folder with the minimal case, picture and reproduce command. "
         "1 means the case fails (and was shrunk), 0 that it does not fail. " + EXIT_STATUS_HELP,
     )
     p.add_argument("points_file", metavar="POINTS_FILE",
@@ -40,10 +40,12 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
                    help="eps policy for algorithms taking eps (default: scaled for in-house algorithms, not passed "
                    "to plug-ins; ignored for algorithms without eps)")
     p.add_argument("--check", default=None, metavar="CHECK",
-                   help="keep this failure: one of " + ", ".join(FAILED_CHECKS) + " (default: the case's current failure)")
-    p.add_argument("--budget", type=seconds(), default=30.0, metavar="SECONDS", help="shrink time budget (default 30)")
+                   help="only shrink if the case fails this way: one of " + ", ".join(FAILED_CHECKS) + "; the shrink "
+                   "keeps the case's whole signature")
+    p.add_argument("--budget", type=seconds(), default=120.0, metavar="SECONDS",
+                   help="wall-clock safety net (default 120): the result then depends on the machine's speed")
     p.add_argument("--max-calls", type=count(minimum=1), default=5000, metavar="N",
-                   help="cap on judged calls (default 5000)")
+                   help="evaluation budget: judged calls (default 5000); the result depends only on it")
     p.add_argument("--timeout", type=seconds(), default=None, metavar="SECONDS",
                    help="per-call timeout of isolated calls (default 10)")
     p.add_argument("--no-shrink", action="store_true",
@@ -103,12 +105,12 @@ def shrink_command(args: argparse.Namespace) -> int:
     print(f"{config.label} on {case.n_points} points: {row.status} ({sig.check}): {row.get('reason')}")
     if args.no_shrink:
         return 1
-    result = shrink(case, config, sig, budget_seconds=args.budget, max_calls=args.max_calls, timeout=args.timeout)
+    result = shrink(case, config, sig, max_calls=args.max_calls, budget_seconds=args.budget, timeout=args.timeout)
     run_dir = new_run_dir(args.out, f"shrink-{time.strftime('%Y%m%d-%H%M%S')}-{spec.name}")
     rec = write_failure_folder(run_dir / "failures", triage_one(result, config, timeout=args.timeout),
                                timeout=args.timeout, registration=registration_args(args))
     state = "" if not result.exhausted else " (budget spent; may not be minimal)"
-    print(f"shrunk {result.original_size} -> {result.minimal_size} points in {result.calls} calls, "
+    print(f"shrunk {result.original_size} -> {result.minimal_size} points in {result.calls} evaluations, "
           f"{result.seconds:.1f} s{state}")
     if result.note and not result.reproduced:
         print(f"note: {result.note}", file=sys.stderr)

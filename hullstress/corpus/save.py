@@ -42,9 +42,11 @@ def select_for_corpus(records: Sequence[Any], new_groups: Collection[tuple[str, 
     best: dict[tuple[str, str], Any] = {}
     for rec in records:
         sig = rec.signature
-        if new_groups is not None and (sig.algorithm, sig.sphere, sig.eps, sig.family, corpus_signature(sig.check, sig.stage)) not in new_groups:
+        families = [f for f, _ in rec.families]
+        if new_groups is not None and not any(
+                (sig.algorithm, sig.sphere, sig.eps, f, corpus_signature(sig.check, sig.stage)) in new_groups for f in families):
             continue
-        key = (sig.algorithm, sig.family)
+        key = (sig.algorithm, families[0])
         if key not in best or rec.case.n_points < best[key].case.n_points:
             best[key] = rec
     return [best[k] for k in sorted(best)]
@@ -76,7 +78,7 @@ def save_minimised_failures(
         points = np.asarray(rec.case.points, dtype=np.float64)
         dim = original.dim if original is not None else (points.shape[1] if points.ndim == 2 else 3)
         case = Case(
-            points=points, dim=dim, family=sig.family,
+            points=points, dim=dim, family=rec.families[0][0],
             params=original.params if original is not None else {},
             seed=original.seed if original is not None else None,
             size=original.size if original is not None else None,

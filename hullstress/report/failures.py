@@ -1,37 +1,43 @@
-"""One folder per failure group: ``failures/<signature>/``.
+"""One folder per cause: ``failures/<slug>/``.
+
+A cause is one or more failure groups whose minimal cases coincide (see
+:class:`hullstress.triage.records.Cause`); its folder holds the minimal case
+of its representative (the worst group) and says which other configs and
+families fail the same way on it.  Everything in a folder is a function of
+the run's results, never of its timing: two runs with the same seed write
+byte-identical folders (only the run folder's own path, which carries the
+start time, appears in the reproduce command).
 
 Contents:
 
-``points.npy``, ``points.csv``
+``points.csv`` and/or ``points.npy``
     The minimal case, exact (``.csv`` prints ``repr`` floats, which read back
-    bit for bit through :func:`hullstress.io.read_points`).
+    bit for bit through :func:`hullstress.io.read_points`; inputs the reader
+    refuses, with NaN or of odd shapes, have only the ``.npy``).
 ``case.json``
-    Provenance: signature, config, the original case (family, params, seed,
-    id, size), the shrink (sizes, calls, seconds, steps), the group's counts,
-    the reproduce command and whether it was verified.
+    The cause: the representative's signature and config, the original case
+    (family, params, seed, id, size), the shrink (sizes, evaluations, steps,
+    notes), the families and every member group with its own signature,
+    counts and minimal points, and the reproduce command.
 ``faces.json``
     The algorithm's output on the minimal case, in input indices.
 ``verdict.json``
-    Status, reason, the checker's verdict columns and offending indices.
+    Status, stage, reason, frame, the checker's verdict columns and offending indices.
 ``picture.png``
-    See :mod:`hullstress.report.pictures`.
+    For the top causes (the profile's picture count): see :mod:`hullstress.report.pictures`.
 ``reproduce.txt``
-    One shell command, runnable from any directory, that exits 1 when the
-    failure reproduces.
+    One shell command, runnable from any directory, that re-runs the case and
+    exits 1 while the failure persists: ``hullstress reproduce <folder>`` with
+    the full path of the interpreter that ran.
 """
 
 from __future__ import annotations
 
 import dataclasses
-import functools
 import json
 import math
-import os
 import shlex
-import shutil
-import subprocess
 import sys
-import tempfile
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -39,78 +45,108 @@ from typing import Any
 
 import numpy as np
 
-from ..config import NO_EPS, AlgorithmConfig
-from ..results import ResultRow
 from ..files import atomic_write_bytes, atomic_write_text, atomic_write_with
+from ..results import ResultRow
 from ..triage.grouping import FailureGroup
+from ..triage.records import Cause, TriageRecord
 from ..triage.signature import Signature
-from ..triage.records import TriageRecord
 
-__all__ = ["FailureRecord", "write_failure_folder", "draw_picture", "reproduce_command", "python_command"]
+__all__ = ["FailureRecord", "write_cause_folder", "write_failure_folder", "draw_picture", "reproduce_command",
+           "python_command", "CASE_FILE", "TIMING_KEYS"]
+
+#: The file of a folder that ``hullstress reproduce`` reads.
+CASE_FILE = "case.json"
+#: Row values that measure time: never written into a folder (they differ between identical runs).
+TIMING_KEYS = ("seconds", "check_seconds")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class FailureRecord:
-    """What was written for one failure group (the report and JUnit read these).
+    """What was written for one cause (the report, the summary and JUnit read these).
 
     Attributes
     ----------
-    signature : Signature
+    cause : Cause
     folder : Path
     command : str
-        The one-line reproduce command (``""`` when none could be built).
+        The one-line reproduce command.
     points : ndarray of shape (n, dim)
         The minimal case's points.
-    original_size, minimal_size : int
-    shrunk : bool
-        Shrinking ran and reproduced the failure.
-    shrink_calls : int
-    shrink_seconds : float
-    note : str
-        Why shrinking stopped early or did not run, or ``""``.
-    verified : bool or None
-        Re-reading the points file and re-running reproduced the failure
-        (None when not checked).
-    reason : str
-        The minimal case's failure reason.
-    failed_checks : str
-    offending : mapping of str to list of int
     picture : bytes or None
         PNG bytes (also written to ``picture.png``).
-    group : FailureGroup or None
     """
 
-    signature: Signature
+    cause: Cause
     folder: Path
     command: str
     points: np.ndarray
-    original_size: int
-    minimal_size: int
-    shrunk: bool
-    shrink_calls: int
-    shrink_seconds: float
-    note: str
-    verified: bool | None
-    reason: str
-    failed_checks: str
-    offending: Mapping[str, list[int]]
-    picture: bytes | None
-    group: FailureGroup | None = None
+    picture: bytes | None = None
+
+    # The representative's facts, for the report's convenience.
+    @property
+    def signature(self) -> Signature:
+        return self.cause.signature
+
+    @property
+    def record(self) -> TriageRecord:
+        return self.cause.representative
+
+    @property
+    def group(self) -> FailureGroup | None:
+        return self.record.group
+
+    @property
+    def original_size(self) -> int:
+        return self.record.shrink.original_size
+
+    @property
+    def minimal_size(self) -> int:
+        return self.record.shrink.minimal_size
+
+    @property
+    def shrunk(self) -> bool:
+        return self.record.shrink.reproduced
+
+    @property
+    def shrink_calls(self) -> int:
+        return self.record.shrink.calls
+
+    @property
+    def note(self) -> str:
+        return self.record.shrink.note
+
+    @property
+    def verified(self) -> bool | None:
+        return self.record.verified
+
+    @property
+    def reason(self) -> str:
+        row = self.record.shrink.row
+        return str(row.get("reason") or "") if row is not None else ""
+
+    @property
+    def failed_checks(self) -> str:
+        return self.signature.checks
+
+    @property
+    def offending(self) -> Mapping[str, list[int]]:
+        return _offending(self.record.shrink.row)
 
 
-@functools.lru_cache(maxsize=1)
 def python_command() -> str:
-    """``python`` when that name on PATH is this interpreter, else this interpreter's absolute path."""
-    found = shutil.which("python")
-    if found is not None:
-        try:
-            out = subprocess.run([found, "-c", "import sys; print(sys.executable)"], capture_output=True,
-                                 text=True, timeout=20, check=False).stdout.strip()
-        except (OSError, subprocess.SubprocessError):
-            out = ""
-        if out and os.path.realpath(out) == os.path.realpath(sys.executable):
-            return "python"
+    """The full path of the interpreter running now: reproduce commands work outside an activated venv."""
     return sys.executable
+
+
+def reproduce_command(folder: Path) -> str:
+    """``<this python> -m hullstress reproduce <folder>``: exits 1 while the failure persists.
+
+    Examples
+    --------
+    >>> reproduce_command(Path("/r/failures/x")).split(" -m ", 1)[1]
+    'hullstress reproduce /r/failures/x'
+    """
+    return shlex.join([python_command(), "-m", "hullstress", "reproduce", str(Path(folder).absolute())])
 
 
 def _plugin_arg(spec: str) -> str:
@@ -118,86 +154,15 @@ def _plugin_arg(spec: str) -> str:
     return str(path.resolve()) if (spec.endswith(".py") or path.is_file()) else spec
 
 
-def reproduce_command(
-    points_file: Path,
-    config: AlgorithmConfig,
-    *,
-    plugins: Sequence[str] = (),
-    timeout: float | None = None,
-    isolate: bool = False,
-    raw_npy: bool = False,
-    dim: int | None = None,
-    registration: Sequence[str] = (),
-) -> str:
-    """The one-line command that re-runs ``config`` on ``points_file`` and exits 1 if it fails.
-
-    Parameters
-    ----------
-    points_file : Path
-        Made absolute, so the command runs from any directory.
-    config : AlgorithmConfig
-    plugins : sequence of str
-        ``--plugin`` specs (files made absolute).
-    timeout : float, optional
-        Per-call timeout (for timeout signatures).
-    isolate : bool
-        Run in a worker process (``--workers 1``): needed to observe a crash or
-        timeout; otherwise in-process (``--workers 0``, faster).
-    raw_npy : bool
-        The points are not a valid ``--points-file`` (non-finite values, a
-        shape the reader refuses): replay through ``shrink --no-shrink``,
-        which loads the ``.npy`` as it is.
-    dim : int, optional
-        The case's dimension (needed with ``raw_npy``).
-    registration : sequence of str
-        Command-line arguments that register what the algorithm needs
-        (``--plugin F``, ``--exec NAME=COMMAND``, ``--clockwise NAME``), appended as they are
-        (plug-in files made absolute).
-
-    Examples
-    --------
-    >>> cmd = reproduce_command(Path("/r/points.csv"), AlgorithmConfig("gift-wrap", "on", "fixed"))
-    >>> cmd.split(" -m ", 1)[1].split(" --out")[0]
-    'hullstress run --points-file /r/points.csv --algorithm gift-wrap --sphere on --eps fixed --workers 0'
-    """
-    path = str(Path(points_file).resolve())
-    out = os.path.join(tempfile.gettempdir(), "hullstress-reproduce")
-    if raw_npy:
-        args = ["-m", "hullstress", "shrink", path, "--algorithm", config.algorithm, "--sphere", config.sphere,
-                "--no-shrink", "--raw", "--dim", str(dim)]
-        if config.eps != NO_EPS:
-            args += ["--eps", config.eps]
-        if timeout is not None:
-            args += ["--timeout", _number(timeout)]
-    else:
-        args = ["-m", "hullstress", "run", "--points-file", path, "--algorithm", config.algorithm,
-                "--sphere", config.sphere]
-        if config.eps != NO_EPS:
-            args += ["--eps", config.eps]
-        args += ["--workers", "1" if isolate else "0"]
-        if timeout is not None:
-            args += ["--timeout", _number(timeout)]
-        args += ["--out", out, "--no-shrink", "--quiet"]
-    for spec in plugins:
-        args += ["--plugin", _plugin_arg(spec)]
-    for option, value in zip(registration[::2], registration[1::2]):
-        args += [option, _plugin_arg(value) if option == "--plugin" else value]
-    return shlex.join([python_command()] + args) if python_command() != "python" else "python " + shlex.join(args)
-
-
-def _number(x: float) -> str:
-    return str(int(x)) if float(x).is_integer() else repr(float(x))
-
-
 def _jsonable(value: Any) -> Any:
     if value is None:
         return None
-    if isinstance(value, (np.integer,)):
+    if isinstance(value, np.integer):
         return int(value)
     if isinstance(value, (float, np.floating)):
         f = float(value)
         return f if math.isfinite(f) else repr(f)
-    if isinstance(value, (np.bool_,)):
+    if isinstance(value, np.bool_):
         return bool(value)
     try:
         import pandas as pd
@@ -209,131 +174,167 @@ def _jsonable(value: Any) -> Any:
     return value
 
 
-def _verdict(row: ResultRow | None) -> dict[str, Any]:
+def _offending(row: ResultRow | None) -> dict[str, list[int]]:
+    if row is None:
+        return {}
+    try:
+        return dict(json.loads(row.get("offending") or "{}"))
+    except (TypeError, ValueError):
+        return {}
+
+
+def verdict_values(row: ResultRow | None) -> dict[str, Any]:
+    """A row's verdict as JSON-ready values: status, stage, reason, frame, checks, offending; no timings."""
     if row is None:
         return {}
     from ..verdict import VERDICT_COLUMNS
 
-    out = {k: _jsonable(row.get(k)) for k in ("status", "reason", "eps_value", "degenerate", "invalid_input")}
+    keys = ("status", "stage", "reason", "error_frame", "eps_value", "degenerate", "invalid_input")
+    out = {k: _jsonable(row.get(k)) for k in keys if k not in TIMING_KEYS}
     for col in VERDICT_COLUMNS:
         out[col] = _jsonable(row.get(col))
-    try:
-        out["offending"] = json.loads(row.get("offending") or "{}")
-    except (TypeError, ValueError):
-        out["offending"] = {}
+    out["offending"] = _offending(row)
     return out
 
 
-def _write_points(folder: Path, points: np.ndarray, storage: str) -> tuple[Path | None, Path]:
-    """Write points.npy and, when triage found it exact, points.csv; return (readable file or None, npy)."""
+def points_json(points: np.ndarray) -> Any:
+    """Exact points for JSON (``repr`` floats round-trip; NaN and infinities as Python writes them)."""
+    return np.asarray(points, dtype=np.float64).tolist()
+
+
+def _write_points(folder: Path, points: np.ndarray, storage: str) -> str:
+    """Write points.npy and, when triage found it exact, points.csv; return the readable file's name."""
     from ..io import write_points
 
-    npy = folder / "points.npy"
-    atomic_write_with(npy, lambda fh: np.save(fh, np.asarray(points, dtype=np.float64), allow_pickle=False),
-                      binary=True)
+    atomic_write_with(folder / "points.npy",
+                      lambda fh: np.save(fh, np.asarray(points, dtype=np.float64), allow_pickle=False), binary=True)
     if storage == "csv":
-        csv = folder / "points.csv"
-        write_points(csv, points, "csv")
-        return csv, npy
-    return (npy if storage == "npy" else None), npy
+        write_points(folder / "points.csv", points, "csv")
+        return "points.csv"
+    return "points.npy"
 
 
-def write_failure_folder(
+def _shrink_json(record: TriageRecord) -> dict[str, Any]:
+    res = record.shrink
+    return {"reproduced": res.reproduced, "evaluations": res.calls, "exhausted": res.exhausted,
+            "adopted": res.adopted, "steps": list(res.steps), "note": res.note}
+
+
+def _member_json(record: TriageRecord, representative: TriageRecord) -> dict[str, Any]:
+    group = record.group
+    same = np.array_equal(np.asarray(record.case.points), np.asarray(representative.case.points), equal_nan=True)
+    return {
+        "slug": record.signature.slug,
+        "config": record.config.label,
+        "signature": record.signature.as_dict(),
+        "failures": record.failures,
+        "calls": group.calls if group is not None else None,
+        "families": dict(record.families),
+        "original_size": record.shrink.original_size,
+        "minimal_size": record.shrink.minimal_size,
+        "shrink": _shrink_json(record),
+        "verified": record.verified,
+        # A member's minimal case equals the representative's up to exact transforms; its own is kept.
+        "points": None if same else points_json(record.case.points),
+    }
+
+
+def write_cause_folder(
     root: Path,
-    record: TriageRecord,
+    cause: Cause,
     *,
     plugins: Sequence[str] = (),
     timeout: float | None = None,
     picture: bool = True,
     registration: Sequence[str] = (),
 ) -> FailureRecord:
-    """Write ``root/<signature slug>/`` for one triaged failure group.
+    """Write ``root/<cause slug>/`` for one cause.
 
     Parameters
     ----------
     root : Path
         The ``failures`` folder (created if missing).
-    record : TriageRecord
-        From :func:`hullstress.triage.stage.triage_failures` (or
-        :func:`~hullstress.triage.stage.triage_one`): the minimal case, the
-        output faces, the storage form and whether it reproduced from it.
+    cause : Cause
+        From :func:`hullstress.triage.stage.triage_failures`.
     plugins : sequence of str
-        Plug-in specs the algorithm needs (added to the reproduce command).
+        ``--plugin`` specs the cause's algorithms need (recorded for ``reproduce``).
     timeout : float, optional
-        The sweep's per-call timeout (for timeout signatures).
-    registration : sequence of str
-        Registration arguments for the reproduce command (see :func:`reproduce_command`).
+        The per-call timeout to reproduce with (recorded for ``reproduce``).
     picture : bool
-        Draw ``picture.png`` (or later, with :func:`draw_picture`).
+        Draw ``picture.png`` now (or later, with :func:`draw_picture`).
+    registration : sequence of str
+        The run's ``--exec`` / ``--clockwise`` arguments the cause's algorithms
+        need, recorded for ``reproduce`` (which registers them again).
 
     Returns
     -------
     FailureRecord
     """
-    sig, config, result = record.signature, record.config, record.shrink
-    group = record.group
-    folder = Path(root) / sig.slug
+    rep = cause.representative
+    sig, config, result = rep.signature, rep.config, rep.shrink
+    folder = Path(root) / cause.slug
     folder.mkdir(parents=True, exist_ok=True)
     case = result.case
     points = np.asarray(case.points)
-    readable, npy = _write_points(folder, points, record.storage)
-    dangerous = sig.check in ("timeout", "crash")
-    command = reproduce_command(
-        readable if readable is not None else npy, config, plugins=plugins,
-        timeout=timeout if sig.check == "timeout" else None, isolate=dangerous,
-        raw_npy=readable is None, dim=case.dim, registration=registration,
-    )
-    verified = record.verified
-    verdict = _verdict(result.row)
-    offending = verdict.get("offending") or {}
-    atomic_write_text(folder / "faces.json", json.dumps({"faces": record.faces, "note": record.faces_note},
-                                                         indent=1) + "\n")
-    atomic_write_text(folder / "verdict.json", json.dumps(
-        {"signature": sig.as_dict(), "config": config.label, **verdict}, indent=2, default=repr) + "\n")
+    points_file = _write_points(folder, points, rep.storage)
+    command = reproduce_command(folder)
     original = result.original
+    atomic_write_text(folder / "faces.json", json.dumps({"faces": rep.faces, "note": rep.faces_note}, indent=1) + "\n")
+    atomic_write_text(folder / "verdict.json", json.dumps(
+        {"signature": sig.as_dict(), "config": config.label, **verdict_values(result.row)},
+        indent=2, default=repr) + "\n")
     meta = {
+        "cause": cause.slug,
+        "label": sig.label,
         "signature": sig.as_dict(),
-        "slug": sig.slug,
         "config": config.label,
+        "dim": case.dim,
+        "points_file": points_file,
+        "storage": rep.storage,
+        "plugins": [_plugin_arg(p) for p in plugins],
+        "registration": list(registration),
+        "timeout": timeout,
+        "failures": cause.failures,
+        "configs": list(cause.configs),
+        "families": dict(cause.families),
         "original_case": {
             "case_id": original.case_id, "family": original.family, "params": json.loads(original.params_json),
             "seed": original.seed, "size": original.size, "n_points": original.n_points, "source": original.source,
         },
         "minimal_case_id": case.case_id,
-        "dim": case.dim,
         "original_size": result.original_size,
         "minimal_size": result.minimal_size,
-        "shrink": {"reproduced": result.reproduced, "calls": result.calls, "seconds": round(result.seconds, 3),
-                   "exhausted": result.exhausted, "steps": list(result.steps), "note": result.note},
-        "group": None if group is None else {
-            "failures": group.count, "calls": group.calls, "cases": group.cases,
-            "smallest_case_id": group.smallest_case_id, "representative_case_id": group.representative_case_id,
-        },
-        "points_file": str((readable or npy).resolve()),
+        "shrink": _shrink_json(rep),
+        "verified": rep.verified,
+        "members": [_member_json(r, rep) for r in cause.records],
         "reproduce": command,
-        "verified": verified,
     }
-    atomic_write_text(folder / "case.json", json.dumps(meta, indent=2, default=repr) + "\n")
+    atomic_write_text(folder / CASE_FILE, json.dumps(meta, indent=2, default=repr) + "\n")
     atomic_write_text(folder / "reproduce.txt", command + "\n")
-    out = FailureRecord(
-        signature=sig, folder=folder, command=command, points=points, original_size=result.original_size,
-        minimal_size=result.minimal_size, shrunk=result.reproduced, shrink_calls=result.calls,
-        shrink_seconds=result.seconds, note=result.note, verified=verified,
-        reason=str(verdict.get("reason") or ""), failed_checks=str(verdict.get("failed_checks") or ""),
-        offending=offending, picture=None, group=group,
-    )
+    out = FailureRecord(cause=cause, folder=folder, command=command, points=points)
     return draw_picture(out) if picture else out
 
 
+def write_failure_folder(root: Path, record: TriageRecord, *, plugins: Sequence[str] = (),
+                         timeout: float | None = None, picture: bool = True,
+                         registration: Sequence[str] = ()) -> FailureRecord:
+    """Write the folder of one triaged failure on its own (``shrink`` and ``fuzz`` commands)."""
+    from ..triage.canonical import canonical_key
+
+    cause = Cause(key=canonical_key(np.asarray(record.case.points)), records=(record,))
+    return write_cause_folder(root, cause, plugins=plugins, timeout=timeout, picture=picture,
+                              registration=registration)
+
+
 def draw_picture(record: FailureRecord) -> FailureRecord:
-    """Draw ``picture.png`` in a written failure folder; the record with the PNG bytes.
+    """Draw ``picture.png`` in a written folder; the record with the PNG bytes.
 
     Reads the folder's ``faces.json`` so that the picture shows exactly what was saved.
     """
     from .pictures import failure_picture
 
     saved = json.loads((record.folder / "faces.json").read_text())
-    dim = json.loads((record.folder / "case.json").read_text())["dim"]
+    dim = json.loads((record.folder / CASE_FILE).read_text())["dim"]
     png = failure_picture(record.points, saved.get("faces"), dim=dim, offending=record.offending,
                           title=f"{record.signature.label}: {record.minimal_size} points")
     atomic_write_bytes(record.folder / "picture.png", png)

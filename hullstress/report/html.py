@@ -3,8 +3,9 @@
 No external assets: the style sheet is inline and every picture is a
 ``data:image/png;base64`` URI, so the file can be mailed, attached to a CI
 run or opened from an archive.  Sections: the run, calls by status, failure
-rates by algorithm x variant x family, the findings, then every failure
-group with its picture, sizes and reproduce command.
+rates by algorithm x variant x family, the findings, then every cause with
+its picture, configs, families, sizes and reproduce command, and every
+failure group with a link to its cause.
 """
 
 from __future__ import annotations
@@ -129,33 +130,33 @@ def _points_text(points: np.ndarray) -> str:
     return "\n".join(", ".join(repr(float(x)) for x in row) for row in np.asarray(points).reshape(len(points), -1))
 
 
-def _group_html(rec: FailureRecord) -> str:
-    g = rec.group
-    sig = rec.signature
-    parts = [f'<section class="group" id="{_e(sig.slug)}">', f"<h3>{_e(sig.label)}</h3>"]
+def _cause_html(rec: FailureRecord) -> str:
+    cause, sig = rec.cause, rec.signature
+    parts = [f'<section class="group" id="{_e(cause.slug)}">', f"<h3>{_e(cause.headline)}</h3>"]
     if rec.picture:
         parts.append(f'<img src="{png_data_uri(rec.picture)}" alt="{_e(sig.label)}: minimal case">')
-    items = []
-    if g is not None:
-        items.append(("failures", f"{g.count} of {g.calls} calls ({g.cases} cases)"))
+    items = [("failures", f"{cause.failures} failing calls in {len(cause.records)} failure groups")]
+    items.append(("configs", "<br>".join(f"<code>{_e(c)}</code>" for c in cause.configs)))
+    items.append(("families", _e(", ".join(f"{f} ({n})" for f, n in cause.families))))
     shrunk = f"{rec.original_size} &rarr; {rec.minimal_size} points"
-    shrunk += f" ({rec.shrink_calls} calls, {rec.shrink_seconds:.1f} s)" if rec.shrunk else " (not shrunk)"
+    shrunk += f" ({rec.shrink_calls} evaluations)" if rec.shrunk else " (not shrunk)"
     items.append(("size", shrunk))
     if rec.note:
         items.append(("note", _e(rec.note)))
-    if rec.failed_checks:
-        items.append(("failed checks", _e(rec.failed_checks)))
+    if sig.frame:
+        items.append(("raised at", f"<code>{_e(sig.frame)}</code>"))
     if rec.reason:
         items.append(("reason", _e(rec.reason)))
     if rec.offending:
         items.append(("offending", "<code>" + _e(", ".join(f"{k}: {list(v)}" for k, v in rec.offending.items()))
                       + "</code>"))
     verified = {True: '<span class="ok">yes</span>', False: '<span class="bad">NO</span>', None: "not checked"}
-    items.append(("reproduced from file", verified[rec.verified]))
+    items.append(("fails again when re-run", verified[rec.verified]))
     items.append(("folder", f"<code>{_e(rec.folder)}</code>"))
     parts.append("<dl>" + "".join(f"<dt>{k}</dt><dd>{v}</dd>" for k, v in items) + "</dl>")
     if rec.command:
-        parts.append(f"<p>Reproduce (exits 1 while the failure persists):</p><pre>{_e(rec.command)}</pre>")
+        parts.append(f"<p>Reproduce (prints the verdict and its witness; exits 1 while the failure persists):</p>"
+                     f"<pre>{_e(rec.command)}</pre>")
     if len(rec.points) <= 64:
         parts.append(f"<details><summary>minimal points ({len(rec.points)}, exact)</summary>"
                      f"<pre>{_e(_points_text(rec.points))}</pre></details>")
@@ -163,20 +164,29 @@ def _group_html(rec: FailureRecord) -> str:
     return "\n".join(parts)
 
 
-def _groups_index(groups: Sequence[FailureGroup], records: Sequence[FailureRecord]) -> str:
-    """One row per group, worst first; a link to its section when it has one."""
-    by_slug = {r.signature.slug: r for r in records}
+def _causes_index(records: Sequence[FailureRecord]) -> str:
+    """One row per cause, worst first, linking to its section."""
     verified = {True: "yes", False: "NO", None: ""}
+    rows = [{"cause": f'<a href="#{_e(r.cause.slug)}">{_e(r.cause.headline)}</a>', "failures": r.cause.failures,
+             "groups": len(r.cause.records), "families": len(r.cause.families), "minimal": r.minimal_size,
+             "verified": verified[r.verified]} for r in records]
+    return _table(pd.DataFrame(rows), left=("cause",), cell=lambda c, v: (v, "") if c == "cause" else (None, ""))
+
+
+def _groups_index(groups: Sequence[FailureGroup], records: Sequence[FailureRecord]) -> str:
+    """One row per failure group, worst first, linking to the section of its cause."""
+    cause_of = {m.signature.slug: r for r in records for m in r.cause.records}
     rows = []
     for g in groups:
-        rec = by_slug.get(g.slug)
+        rec = cause_of.get(g.slug)
         label = _e(g.signature.label)
         rows.append({
-            "group": f'<a href="#{_e(g.slug)}">{label}</a>' if rec else label,
-            "failures": g.count, "calls": g.calls, "smallest": g.smallest_n_points,
-            "minimal": rec.minimal_size if rec else "", "verified": verified[rec.verified] if rec else "",
+            "group": label, "failures": g.count, "calls": g.calls, "families": len(g.families),
+            "smallest": g.smallest_n_points,
+            "cause": f'<a href="#{_e(rec.cause.slug)}">{_e(rec.cause.slug)}</a>' if rec else "",
         })
-    return _table(pd.DataFrame(rows), left=("group",), cell=lambda c, v: (v, "") if c == "group" else (None, ""))
+    return _table(pd.DataFrame(rows), left=("group", "cause"),
+                  cell=lambda c, v: (v, "") if c in ("group", "cause") else (None, ""))
 
 
 def render_html(
@@ -197,14 +207,13 @@ def render_html(
     meta : mapping
         ``run.json``'s content (run id, profile, seed, timings, completeness).
     records : sequence of FailureRecord
-        One per failure group written, worst first.
+        One per cause folder written, worst first.
     findings : DataFrame
         From :func:`hullstress.report.findings.findings_table`.
     notes : sequence of str
         Lines about how triage ran (budgets, groups not shrunk).
     groups : sequence of FailureGroup, optional
-        Every failure group (default: those of ``records``); groups without a
-        record are listed in the index table without a section.
+        Every failure group (default: those of ``records``' causes).
 
     Returns
     -------
@@ -226,13 +235,15 @@ def render_html(
         + ".</p>"
     )
     if groups is None:
-        groups = [r.group for r in records if r.group is not None]
+        groups = [m.group for r in records for m in r.cause.records if m.group is not None]
     failed = int(failed_mask(table).sum()) if len(table) else 0
     method = int(failed_mask(table, Stage.PREPROCESS).sum()) if len(table) else 0
     internal = int(failed_mask(table, Stage.CHECK).sum()) if len(table) else 0
     out.append(f"<p>{failed} calls in which the algorithm failed, {method} failures of the sphere method or eps "
-               f"set-up (stage preprocess), {internal} internal errors (stage check); {len(groups)} failure groups "
-               f"(signature: algorithm, variant, failed check, family, stage).</p>")
+               f"set-up (stage preprocess), {internal} internal errors (stage check): {len(groups)} failure groups "
+               f"(signature: config, stage, status, failed checks and severity, or exception and frame), merged "
+               f"into {len(records)} causes (groups whose minimal cases coincide up to translation, power-of-two "
+               "scaling, row and axis order).</p>")
 
     out.append('<h2 id="status">Calls by status</h2>')
     totals = (table["status"].value_counts().reindex(list(STATUSES), fill_value=0) if len(table)
@@ -260,14 +271,17 @@ def render_html(
     out.append("<ul>" + "".join(f"<li>{_e(line)}</li>" for line in findings_reading(findings)) + "</ul>")
     out.append(_table(findings, left=("family", "algorithm"), cell=_pct_cell))
 
-    out.append(f'<h2 id="failures">Failure groups ({len(groups)})</h2>')
+    out.append(f'<h2 id="causes">Causes ({len(records)})</h2>')
     for line in notes:
         out.append(f'<p class="meta">{_e(line)}</p>')
-    if groups:
-        out.append(_groups_index(groups, records))
-        out.extend(_group_html(r) for r in records)
+    if records:
+        out.append(_causes_index(records))
+        out.extend(_cause_html(r) for r in records)
     else:
         out.append("<p>No failures.</p>")
+    if groups:
+        out.append(f'<h2 id="groups">Failure groups ({len(groups)})</h2>')
+        out.append(_groups_index(groups, records))
     skipped = meta.get("skipped") or []
     if skipped:
         out.append(f"<h2>Cases not generated ({len(skipped)})</h2><ul>"

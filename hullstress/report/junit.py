@@ -2,8 +2,8 @@
 
 A test case fails when the algorithm failed in any of its calls (fail, error,
 timeout, crash at stage ``algorithm``).  The ``<failure>`` element's message
-counts the failures by check; its text carries, for each failure group of
-that config and family, the minimal case (exact ``repr`` floats) and the
+counts the failures by check; its text carries, for each cause with a failure
+of that config on that family, the minimal case (exact ``repr`` floats) and the
 one-line reproduce command.  An internal error of the checker (stage
 ``check``) is an ``<error>`` of the test case, not a failure.  Failures of
 the sphere method or eps set-up (stage ``preprocess``) are not the
@@ -43,7 +43,7 @@ def _failure_text(records: Sequence[FailureRecord]) -> str:
         pts = "\n".join("  " + ", ".join(repr(float(x)) for x in row)
                         for row in np.asarray(rec.points).reshape(len(rec.points), -1))
         blocks.append(
-            f"{rec.signature.label}: {rec.group.count if rec.group else '?'} failures; "
+            f"{rec.cause.headline}: {rec.cause.failures} failures; "
             f"minimal case {rec.minimal_size} points (from {rec.original_size})\n"
             f"reason: {rec.reason}\n"
             f"reproduce: {rec.command}\n"
@@ -61,7 +61,7 @@ def junit_xml(table: pd.DataFrame, records: Sequence[FailureRecord], *, suite: s
     table : DataFrame
         A results table.
     records : sequence of FailureRecord
-        Written failure groups (their minimal cases go into the failures).
+        Written causes (their minimal cases go into the failures).
     suite : str
         Name of the ``<testsuites>`` root.
 
@@ -83,8 +83,12 @@ def junit_xml(table: pd.DataFrame, records: Sequence[FailureRecord], *, suite: s
     totals = {"tests": 0, "failures": 0, "errors": 0, "time": 0.0}
     by_key: dict[tuple[str, ...], list[FailureRecord]] = {}
     for rec in records:
-        s = rec.signature
-        by_key.setdefault((s.algorithm, s.sphere, s.eps, s.family, s.stage), []).append(rec)
+        for member in rec.cause.records:
+            s = member.signature
+            for family, _ in member.families:
+                found = by_key.setdefault((s.algorithm, s.sphere, s.eps, family, s.stage), [])
+                if not any(r is rec for r in found):
+                    found.append(rec)
     if len(table):
         table = table.assign(stage=stages(table))
         for config, sub in table.groupby("config", sort=True, observed=True):

@@ -2,11 +2,14 @@
 
 :func:`write_run_report` reads the results table, the run's metadata and
 the triage stage's records (:class:`hullstress.triage.records.TriageResult`)
-and writes the run folder: ``results.csv`` / ``.parquet``, ``summary.md``,
-``run.json``, ``failures/<signature>/`` with pictures, ``failures/index.json``,
-``findings.csv``, ``report.html``, the baseline comparison and JUnit XML.
-Pictures are bounded by the profile's picture budget; groups past it get a
-folder without one, and the report says how many.
+and writes the run folder: ``results.csv`` / ``.parquet``, ``run.json``,
+``failures/<cause>/`` (one folder per cause) with ``failures/index.json``,
+``causes.csv``, ``groups.csv``, ``findings.csv``, ``summary.md`` (one
+screen), ``report.html``, the baseline comparison and JUnit XML.
+
+Pictures are drawn for the top causes only (the profile's picture count), so
+which folders have one does not depend on the machine's speed; an interrupt
+skips the remaining pictures and the notes say so.
 """
 
 from __future__ import annotations
@@ -22,17 +25,20 @@ from typing import Any, ContextManager
 import pandas as pd
 
 from ..files import atomic_write_text
-from ..triage.grouping import FailureGroup, groups_frame
 from ..triage.records import TriageResult
-from .failures import FailureRecord, draw_picture, write_failure_folder
-from .findings import findings_markdown, findings_reading, findings_table
+from .failures import FailureRecord, draw_picture, write_cause_folder
+from .findings import findings_reading, findings_table
 from .hints import clockwise_hints
 from .html import render_html
 from .junit import write_junit
 from .tables import metamorphic_changes
+from .summary import TABLES, causes_frame, groups_table, summary_markdown, write_summary
 from .writer import _markdown, write_report
 
 __all__ = ["ReportFiles", "write_run_report"]
+
+#: ``progress(done, total, detail)`` while folders are written.
+Progress = Callable[[int, int, str], None]
 
 
 @dataclass(frozen=True)
@@ -42,9 +48,9 @@ class ReportFiles:
     Attributes
     ----------
     records : list of FailureRecord
-        One per failure folder, worst group first.
+        One per cause folder, worst cause first.
     notes : list of str
-        Triage's and the report's notes (budgets, groups without folders or pictures).
+        Triage's and the report's notes.
     findings : DataFrame
     html, summary, findings_csv, index : Path
     junit : Path or None
@@ -71,14 +77,14 @@ def write_run_report(
     meta: Mapping[str, Any],
     triage: TriageResult,
     *,
-    picture_budget: float,
+    pictures: int,
     plugins: Sequence[str] = (),
     timeout: float | None = None,
     junit_path: str | Path | None = None,
-    pictures: bool = True,
     comparison: pd.DataFrame | None = None,
     baseline_label: str | None = None,
     should_stop: Callable[[], bool] | None = None,
+    progress: Progress | None = None,
     registration: Sequence[str] = (),
     tables_written: bool = False,
     interruptible: Callable[[], ContextManager[Any]] | None = None,
@@ -94,17 +100,15 @@ def write_run_report(
     meta : mapping
         ``run.json``'s content (run id, profile, seed, timings, completeness).
     triage : TriageResult
-        The triage stage's groups and records.
-    picture_budget : float
-        Seconds for drawing pictures.
+        The triage stage's groups, records and causes.
+    pictures : int
+        Draw pictures for this many causes, worst first (0: none).
     plugins : sequence of str
-        The run's ``--plugin`` specs (go into reproduce commands of plug-in algorithms).
+        The run's ``--plugin`` specs (recorded for ``reproduce`` of plug-in algorithms).
     timeout : float, optional
-        The sweep's per-call timeout (for reproduce commands of timeouts).
+        The sweep's per-call timeout (``reproduce`` uses it).
     junit_path : path, optional
         Also write JUnit XML there.
-    pictures : bool
-        Draw pictures (tests may turn them off for speed).
     comparison : DataFrame, optional
         From :func:`hullstress.corpus.baseline.compare_with_baseline`: adds
         ``baseline.csv`` and a section of ``summary.md``.
@@ -112,10 +116,12 @@ def write_run_report(
         What the comparison was made against (for the summary).
     should_stop : callable, optional
         Polled before each picture: when it returns True (an interrupt) the
-        remaining groups get no picture and the report is finished at once.
+        remaining causes get no picture and the report is finished at once.
+    progress : callable, optional
+        ``progress(done, total, detail)`` as folders are written.
     registration : sequence of str
         The run's ``--exec`` / ``--clockwise`` (and ``--plugin``) arguments,
-        repeated in the reproduce commands of the algorithms that need them.
+        recorded for ``reproduce`` of the algorithms that need them.
     tables_written : bool
         ``results.csv`` / ``.parquet`` of this very table are on disk already
         (the pipeline writes them right after the sweep): do not write them again.
@@ -131,37 +137,38 @@ def write_run_report(
     start = time.perf_counter()
     run_dir = Path(run_dir)
     write_report(run_dir, table, meta, tables=not tables_written)
-    groups, notes = triage.groups, list(triage.notes)
+    notes = list(triage.notes)
     records: list[FailureRecord] = []
-    picture_seconds = 0.0
-    no_picture = 0
     picture_failures: list[str] = []
-    for triaged in triage.records:
-        sig = triaged.signature
-        needs = _needs_registration(sig.algorithm)
-        record = write_failure_folder(
-            run_dir / "failures", triaged, plugins=list(plugins) if needs and not registration else [],
-            timeout=timeout, picture=False, registration=registration if needs else (),
+    skipped_pictures = 0
+    causes = list(triage.causes)
+    for n, cause in enumerate(causes):
+        algorithms = {r.signature.algorithm for r in cause.records}
+        needs = any(_needs_registration(a) for a in algorithms)
+        record = write_cause_folder(
+            run_dir / "failures", cause, timeout=timeout, picture=False,
+            plugins=list(plugins) if needs else [], registration=registration if needs else (),
         )
-        stop = should_stop is not None and should_stop()
-        if pictures and picture_seconds < picture_budget and not stop:
-            t0 = time.perf_counter()
-            try:
-                with interruptible() if interruptible is not None else nullcontext():
-                    record = draw_picture(record)
-            except KeyboardInterrupt:  # an interrupt cut this picture short; the rest follow without
-                no_picture += 1
-            except Exception as exc:  # a picture is a nicety: never lose the report for it
-                picture_failures.append(f"{sig.slug}: {type(exc).__name__}: {exc}")
-            picture_seconds += time.perf_counter() - t0
-        else:
-            no_picture += 1
+        if n < pictures:
+            if should_stop is not None and should_stop():
+                skipped_pictures += 1
+            else:
+                try:
+                    with interruptible() if interruptible is not None else nullcontext():
+                        record = draw_picture(record)
+                except KeyboardInterrupt:  # an interrupt cut this picture short; the rest follow without
+                    skipped_pictures += 1
+                except Exception as exc:  # a picture is a nicety: never lose the report for it
+                    picture_failures.append(f"{cause.slug}: {type(exc).__name__}: {exc}")
         records.append(record)
+        if progress is not None:
+            progress(n + 1, len(causes), "")
     if picture_failures:
         notes.append(f"{len(picture_failures)} pictures could not be drawn (first: {picture_failures[0]}).")
-    if pictures and no_picture:
-        notes.append(f"{no_picture} groups have no picture: the picture budget ({picture_budget:g} s) was spent"
-                     " or the run was interrupted.")
+    if skipped_pictures:
+        notes.append(f"{skipped_pictures} of the top causes have no picture: the run was interrupted.")
+    if len(causes) > pictures:
+        notes.append(f"Pictures are drawn for the top {pictures} causes (the profile's picture count).")
 
     hints = clockwise_hints(table)
     notes += [f"Hint: {hint}." for hint in hints]
@@ -175,16 +182,20 @@ def write_run_report(
         copies = int((table["transform"].fillna("").astype(str) != "").sum())
         notes.append(f"Metamorphic copies: {len(changes)} of {copies} calls on a transformed copy gave another "
                      "verdict than on the original (metamorphic.csv).")
+    folders = {r.cause.slug: r.folder.relative_to(run_dir).as_posix() for r in records}
     findings = findings_table(table)
     reading = findings_reading(findings)
-    findings_csv = run_dir / "findings.csv"
+    findings_csv = run_dir / TABLES["the seeds' claims"]
     atomic_write_text(findings_csv, findings.to_csv(index=False))
-    index = _write_index(run_dir, records, groups)
-    summary = _append_summary(run_dir, groups, records, findings, reading, notes)
+    atomic_write_text(run_dir / TABLES["causes"], causes_frame(causes, folders).to_csv(index=False))
+    atomic_write_text(run_dir / TABLES["groups"], groups_table(triage.groups, causes).to_csv(index=False))
+    index = _write_index(run_dir, records, len(triage.groups))
+    summary = write_summary(run_dir, summary_markdown(
+        table, meta, causes=causes, groups=triage.groups, folders=folders, reading=reading, notes=notes))
     if comparison is not None:
         _write_baseline_section(run_dir, comparison, baseline_label or "")
     html_path = run_dir / "report.html"
-    atomic_write_text(html_path, render_html(table, meta, records, findings, notes=notes, groups=groups))
+    atomic_write_text(html_path, render_html(table, meta, records, findings, notes=notes, groups=triage.groups))
     junit = write_junit(junit_path, table, records) if junit_path is not None else None
     return ReportFiles(records=records, notes=notes, findings=findings, html=html_path, summary=summary,
                        findings_csv=findings_csv, index=index, junit=junit, seconds=time.perf_counter() - start,
@@ -192,56 +203,42 @@ def write_run_report(
 
 
 def _needs_registration(algorithm: str) -> bool:
-    """Whether the reproduce command must repeat the run's registration options for ``algorithm``."""
+    """Whether ``reproduce`` must register again what the run registered for ``algorithm``."""
     from .._registry import ALGORITHMS
 
     try:
         spec = ALGORITHMS.get(algorithm)
-    except Exception:  # unknown here: keep the plug-ins in the command, to be safe
+    except Exception:  # unknown here: keep the registration, to be safe
         return True
     return spec.origin in ("plugin", "executable") or spec.clockwise
 
 
-def _write_index(run_dir: Path, records: Sequence[FailureRecord], groups: Sequence[FailureGroup]) -> Path:
+def _write_index(run_dir: Path, records: Sequence[FailureRecord], n_groups: int) -> Path:
+    """``failures/index.json``: every cause folder, worst first (no timings: identical runs write the same)."""
     folder = run_dir / "failures"
     folder.mkdir(exist_ok=True)
-    entries = [{"slug": r.signature.slug, **r.signature.as_dict(),
-                "failures": r.group.count if r.group else None, "calls": r.group.calls if r.group else None,
-                "original_size": r.original_size, "minimal_size": r.minimal_size, "shrunk": r.shrunk,
-                "verified": r.verified, "reproduce": r.command} for r in records]
+    entries = [{"slug": r.cause.slug, "cause": r.cause.headline, **r.signature.as_dict(),
+                "failures": r.cause.failures, "groups": [m.signature.slug for m in r.cause.records],
+                "configs": list(r.cause.configs), "families": dict(r.cause.families),
+                "original_size": r.original_size, "minimal_size": r.minimal_size, "minimised": r.shrunk,
+                "verified": r.verified, "picture": r.picture is not None} for r in records]
     path = folder / "index.json"
-    atomic_write_text(path, json.dumps({"groups": len(groups), "folders": entries}, indent=2) + "\n")
-    return path
-
-
-def _append_summary(run_dir: Path, groups: Sequence[FailureGroup], records: Sequence[FailureRecord],
-                    findings: pd.DataFrame, reading: list[str], notes: list[str]) -> Path:
-    path = run_dir / "summary.md"
-    text = path.read_text(encoding="utf-8") if path.exists() else "# hullstress run\n"
-    sizes = {r.signature.slug: r for r in records}
-    frame = groups_frame(list(groups))
-    if len(frame):
-        frame["minimal_n_points"] = [sizes[s].minimal_size if s in sizes else pd.NA for s in frame["slug"]]
-        frame = frame[["algorithm", "sphere", "eps", "check", "family", "failures", "calls", "rate",
-                       "smallest_n_points", "minimal_n_points", "slug"]]
-    parts = [text.rstrip("\n"), "", f"## Failure groups ({len(groups)})", ""]
-    parts += [f"{line}" for line in notes] + [""]
-    parts.append(_markdown(frame).rstrip("\n"))
-    if records:
-        parts += ["", "### Reproduce", ""]
-        for r in records:
-            parts.append(f"- `{r.signature.slug}` ({r.original_size} -> {r.minimal_size} points): `{r.command}`")
-    parts += ["", "## Findings: the seeds' claims against this run", "", findings_markdown(findings, reading)]
-    atomic_write_text(path, "\n".join(parts).rstrip("\n") + "\n")
+    atomic_write_text(path, json.dumps({"groups": n_groups, "causes": len(records), "folders": entries},
+                                       indent=2) + "\n")
     return path
 
 
 def _write_baseline_section(run_dir: Path, comparison: pd.DataFrame, baseline: str) -> None:
-    """``baseline.csv`` and a section of ``summary.md``: new, still-failing and fixed groups."""
+    """``baseline.csv`` and a short section of ``summary.md``: counts, and the first new groups."""
     atomic_write_text(run_dir / "baseline.csv", comparison.to_csv(index=False))
     summary = run_dir / "summary.md"
-    parts = [summary.read_text(encoding="utf-8").rstrip("\n"), "", f"## Against the baseline `{baseline}`", ""]
-    for state in ("new", "still-failing", "fixed"):
-        part = comparison[comparison["state"] == state].drop(columns="state")
-        parts += [f"### {state} ({len(part)})", "", _markdown(part).rstrip("\n"), ""]
-    atomic_write_text(summary, "\n".join(parts))
+    counts = comparison["state"].value_counts()
+    parts = [summary.read_text(encoding="utf-8").rstrip("\n"), "", f"## Against the baseline `{baseline}`", "",
+             ", ".join(f"{int(counts.get(s, 0))} {s}" for s in ("new", "still-failing", "fixed"))
+             + " failure groups; every one in [baseline.csv](baseline.csv).", ""]
+    new = comparison[comparison["state"] == "new"].drop(columns="state")
+    if len(new):
+        parts += ["New:", "", _markdown(new.head(10)).rstrip("\n")]
+        if len(new) > 10:
+            parts += ["", f"... and {len(new) - 10} more new groups."]
+    atomic_write_text(summary, "\n".join(parts).rstrip("\n") + "\n")

@@ -1,4 +1,4 @@
-"""The run folder: ``results.csv`` (+ ``results.parquet``), ``summary.md``, ``run.json``.
+"""The run folder: ``results.csv`` (+ ``results.parquet``), ``run.json``, the sweep's tables and ``summary.md``.
 
 Rows are streamed to ``results.partial.csv`` as they arrive, so a run that is
 killed still leaves a readable table; the final, sorted ``results.csv``
@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import csv
 import functools
-import io
 import json
 import os
 import platform
@@ -26,7 +25,6 @@ from ..errors import EnvironmentFailure, UsageError, is_environment_error
 from ..files import atomic_write_text, atomic_write_with, writable_folder
 from ..results import ROW_COLUMNS, ResultRow
 from .failures import python_command
-from .tables import failure_counts, status_counts
 
 __all__ = ["new_run_dir", "RowStream", "OutputLog", "write_report", "write_run_json", "package_versions",
            "prepare_report"]
@@ -182,30 +180,6 @@ def _markdown(df: pd.DataFrame) -> str:
     return "\n".join(lines) + "\n"
 
 
-def summary_markdown(df: pd.DataFrame, meta: Mapping[str, Any]) -> str:
-    """``summary.md``: status totals, per-config totals, failures by algorithm x variant x family."""
-    buf = io.StringIO()
-    state = "complete" if meta.get("complete", True) else "INCOMPLETE (interrupted or out of time budget)"
-    buf.write(f"# hullstress run {meta.get('run_id', '')}\n\n")
-    buf.write(
-        f"Profile `{meta.get('profile')}`, seed {meta.get('seed')}, {len(df)} calls over "
-        f"{df['case_id'].nunique() if len(df) else 0} cases, {meta.get('timings', {}).get('wall_seconds', 0):.1f} s; {state}.\n\n"
-    )
-    buf.write("## Calls by status\n\n")
-    totals = df["status"].value_counts().reindex(["pass", "fail", "rejected", "error", "timeout", "crash"], fill_value=0)
-    buf.write(_markdown(totals.rename_axis("status").reset_index(name="calls")))
-    buf.write("\n## By algorithm and variant\n\n")
-    buf.write(_markdown(status_counts(df, ["algorithm", "sphere", "eps"])) if len(df) else "_(no calls)_\n")
-    buf.write("\n## Failures by algorithm x variant x family\n\n")
-    buf.write(_markdown(failure_counts(df)) if len(df) else "_(no calls)_\n")
-    skipped = meta.get("skipped") or []
-    if skipped:
-        buf.write(f"\n## Cases not generated ({len(skipped)})\n\n")
-        for line in skipped:
-            buf.write(f"- {line}\n")
-    return buf.getvalue()
-
-
 def write_report(run_dir: Path, df: pd.DataFrame, meta: Mapping[str, Any], *, tables: bool = True) -> dict[str, Path]:
     """Write the run's tables and metadata into ``run_dir``.
 
@@ -229,16 +203,19 @@ def write_report(run_dir: Path, df: pd.DataFrame, meta: Mapping[str, Any], *, ta
         pq_path = run_dir / "results.parquet"
         atomic_write_with(pq_path, lambda fh: df.to_parquet(fh, index=False), binary=True)
         written["parquet"] = pq_path
-    summary = run_dir / "summary.md"
-    atomic_write_text(summary, summary_markdown(df, meta))
-    written["summary"] = summary
+    from .summary import summary_markdown, write_summary, write_sweep_tables
+
+    write_sweep_tables(run_dir, df)
+    written["summary"] = write_summary(run_dir, summary_markdown(df, meta))
     written["json"] = write_run_json(run_dir, meta)
     return written
 
 
 def write_run_json(run_dir: Path, meta: Mapping[str, Any]) -> Path:
-    """Write ``run.json`` alone (e.g. to mark a run interrupted after its report)."""
-    return atomic_write_text(run_dir / "run.json", json.dumps(meta, indent=2, sort_keys=True, default=str) + "\n")
+    """Write ``run.json`` alone (the pipeline adds the report's own time once it is written)."""
+    meta_path = Path(run_dir) / "run.json"
+    atomic_write_text(meta_path, json.dumps(meta, indent=2, sort_keys=True, default=str) + "\n")
+    return meta_path
 
 
 def run_metadata(

@@ -25,6 +25,7 @@ import sys
 import threading
 import time
 from collections.abc import Callable, Sequence
+from types import TracebackType
 
 from ..case import Case
 from ..config import AlgorithmConfig
@@ -42,6 +43,7 @@ __all__ = [
     "ExecutionStats",
     "execute",
     "run_one",
+    "CallPool",
     "DEFAULT_MEMORY_LIMIT_MB",
     "DEFAULT_CHECK_TIMEOUT",
 ]
@@ -195,3 +197,104 @@ def run_one(
     if len(rows) != 1:
         raise HullstressError(f"internal: run_one expected 1 row for {config.label}, got {len(rows)}")
     return rows[0]
+
+
+# -- many isolated calls at a time (parallel triage) --------------------------
+
+
+class CallPool:
+    """A multi-worker :func:`run_one`: isolated worker processes kept alive for many small batches.
+
+    Triage runs hundreds of rounds of a few dozen calls each (shrink
+    candidates, cross-checks); starting workers per round would cost more
+    than the calls.  A pool keeps ``workers`` worker processes, runs each
+    batch on all of them at once, replaces a worker that crashes or hangs
+    (its call becomes a ``crash`` or ``timeout`` row, as in a sweep) and
+    returns every row in task order.
+
+    Parameters
+    ----------
+    workers : int
+        Worker processes (at least 1; started on first use).
+    memory_limit_mb : float or None
+        Address-space limit per worker in MiB (None or 0: none).
+
+    Examples
+    --------
+    >>> from hullstress import AlgorithmConfig, Case  # doctest: +SKIP
+    >>> square = Case.from_points([[0, 0], [1, 0], [1, 1], [0, 1]])  # doctest: +SKIP
+    >>> with CallPool(2) as pool:  # doctest: +SKIP
+    ...     rows = pool.run([Task(0, square, (AlgorithmConfig("monotone-chain", eps="scaled"),))], timeout=5.0)
+    >>> rows[0][0].status  # doctest: +SKIP
+    'pass'
+    """
+
+    def __init__(self, workers: int, *, memory_limit_mb: float | None = DEFAULT_MEMORY_LIMIT_MB) -> None:
+        options = RunnerOptions(workers=max(1, int(workers)), memory_limit_mb=memory_limit_mb)
+        self._pool = WorkerPool(options.workers, memory_limit_bytes=options.memory_limit_bytes)
+        self.stats = ExecutionStats(backend="local", start_method=start_method(), workers=options.workers)
+
+    @property
+    def workers(self) -> int:
+        return self._pool.size
+
+    def run(self, tasks: Sequence[Task], *, timeout: float, qhull: bool = True,
+            check_timeout: float | None = None, qhull_options: str | None = None) -> list[list[ResultRow]]:
+        """Run every config of every task; rows per task, in config order.
+
+        Parameters
+        ----------
+        tasks : sequence of Task
+            Tasks with the same case (same ``case_id``) get the same rows.
+        timeout : float
+            Per-call limit in seconds; beyond it the row is ``timeout``.
+        qhull : bool
+            Compute the Qhull reference with the case facts.
+        check_timeout : float, optional
+            Limit on the checker; default ``max(60, 10 * timeout)``.
+        qhull_options : str, optional
+            Qhull options tried first for the reference (the run's ``--qhull-options``).
+
+        Raises
+        ------
+        KeyboardInterrupt
+            Passed on from the pool (its workers are killed first).
+        """
+        tasks = list(tasks)
+        if not tasks:
+            return []
+        options = RunnerOptions(workers=self.workers, timeout=timeout, qhull=qhull, check_timeout=check_timeout)
+        settings = PoolSettings(timeout=options.timeout, check_timeout=options.effective_check_timeout,
+                                qhull=qhull, refs=algorithm_refs(tasks), qhull_options=qhull_options)
+        found: dict[tuple[str, str], ResultRow] = {}
+
+        def keep(row: ResultRow) -> None:
+            found[(str(row["case_id"]), str(row["config"]))] = row
+
+        # One job per case, with the union of its configs: its facts are computed once.
+        merged: dict[str, Task] = {}
+        for t in tasks:
+            first = merged.get(t.case.case_id)
+            configs = t.configs if first is None else tuple(dict.fromkeys(first.configs + t.configs))
+            merged[t.case.case_id] = Task(t.index if first is None else first.index, t.case, configs)
+        self._pool.run([PendingJob(t) for t in merged.values()], settings, keep, self.stats)
+        out = []
+        for t in tasks:
+            rows = [found.get((t.case.case_id, c.label)) for c in t.configs]
+            missing = [c.label for c, r in zip(t.configs, rows) if r is None]
+            if missing:
+                raise HullstressError(f"internal: the call pool returned no row for {missing[0]} on case "
+                                      f"{t.case.case_id}")
+            out.append(rows)
+        return out
+
+    def close(self) -> None:
+        """Stop the workers."""
+        self._pool.close()
+
+    def __enter__(self) -> "CallPool":
+        return self
+
+    def __exit__(self, kind: type[BaseException] | None, exc: BaseException | None,
+                 tb: TracebackType | None) -> None:
+        self.close()

@@ -1,4 +1,10 @@
-"""Grouping a results table's failing rows by signature."""
+"""Grouping a results table's failing rows by :class:`~.signature.Signature`.
+
+A group is one signature: every failing call of one config that failed the
+same way, over every family.  It keeps the counts the report shows (failing
+calls, cases, the config's calls as the denominator, failures per family)
+and the case triage starts from: the smallest failing case.
+"""
 
 from __future__ import annotations
 
@@ -8,7 +14,7 @@ import pandas as pd
 
 from .signature import FAILED_STATUSES, Signature, signature_of
 
-__all__ = ["FailureGroup", "group_failures", "groups_frame"]
+__all__ = ["FailureGroup", "group_failures", "groups_frame", "GROUP_COLUMNS"]
 
 
 @dataclass(frozen=True)
@@ -23,7 +29,7 @@ class FailureGroup:
     cases : int
         Distinct cases among them.
     calls : int
-        All calls of this config on this family (the denominator of the rate).
+        All calls of this config (the denominator of the rate).
     smallest_case_id : str
         The failing case with the fewest points (ties: first in table order).
     smallest_n_points : int
@@ -35,6 +41,10 @@ class FailureGroup:
         Every failing case id, in table order.
     reasons : tuple of str
         Up to three distinct reasons, for the report.
+    families : tuple of (str, int)
+        Failing calls per generator family, most first (ties by name).
+    dim : int
+        The dimension of the config's cases (0 when the table does not say).
     """
 
     signature: Signature
@@ -47,10 +57,17 @@ class FailureGroup:
     smallest_index: int
     case_ids: tuple[str, ...] = field(default=())
     reasons: tuple[str, ...] = field(default=())
+    families: tuple[tuple[str, int], ...] = field(default=())
+    dim: int = 0
 
     @property
     def slug(self) -> str:
         return self.signature.slug
+
+    @property
+    def family_names(self) -> tuple[str, ...]:
+        """The families with a failure of this group, most failures first."""
+        return tuple(name for name, _ in self.families)
 
 
 def group_failures(table: pd.DataFrame) -> list[FailureGroup]:
@@ -70,14 +87,14 @@ def group_failures(table: pd.DataFrame) -> list[FailureGroup]:
     --------
     >>> import pandas as pd
     >>> t = pd.DataFrame({"case_id": ["a", "b", "c"], "algorithm": "alg", "sphere": "off", "eps": "n/a",
-    ...                   "generator": "dup", "status": ["error", "error", "pass"], "reason": "",
-    ...                   "failed_checks": "", "n_points": [9, 4, 4]})
-    >>> [(g.signature.check, g.count, g.calls, g.smallest_case_id) for g in group_failures(t)]
-    [('error', 2, 3, 'b')]
+    ...                   "generator": ["dup", "grid", "dup"], "status": ["error", "error", "pass"],
+    ...                   "reason": "KeyError: 3", "failed_checks": "", "n_points": [9, 4, 4]})
+    >>> [(g.signature.check, g.count, g.calls, g.smallest_case_id, g.families) for g in group_failures(t)]
+    [('error', 2, 3, 'b', (('dup', 1), ('grid', 1)))]
     """
     if len(table) == 0:
         return []
-    denominators = table.groupby(["algorithm", "sphere", "eps", "generator"], dropna=False).size()
+    denominators = table.groupby(["algorithm", "sphere", "eps"], dropna=False).size()
     failing = table[table["status"].isin(FAILED_STATUSES)]
     buckets: dict[Signature, list[int]] = {}
     for idx, row in failing.iterrows():
@@ -92,31 +109,41 @@ def group_failures(table: pd.DataFrame) -> list[FailureGroup]:
         smallest = n_points.idxmin()
         reasons = tuple(dict.fromkeys(str(r) for r in rows["reason"].fillna("") if str(r)))[:3]
         case_ids = tuple(dict.fromkeys(rows["case_id"].astype(str)))
+        per_family = rows["generator"].astype(str).value_counts()
+        families = tuple(sorted(((str(f), int(n)) for f, n in per_family.items()), key=lambda fn: (-fn[1], fn[0])))
         groups.append(
             FailureGroup(
                 signature=sig,
                 count=len(indices),
                 cases=len(case_ids),
-                calls=int(denominators.get((sig.algorithm, sig.sphere, sig.eps, sig.family), len(indices))),
+                calls=int(denominators.get((sig.algorithm, sig.sphere, sig.eps), len(indices))),
                 smallest_case_id=str(rows.at[smallest, "case_id"]),
                 smallest_n_points=int(n_points[smallest]),
                 representative_case_id=case_ids[0],
                 smallest_index=int(smallest),
                 case_ids=case_ids,
                 reasons=reasons,
+                families=families,
+                dim=int(pd.to_numeric(rows.at[smallest, "dim"], errors="coerce")) if "dim" in rows else 0,
             )
         )
-    groups.sort(key=lambda g: (-g.count, g.signature))
+    groups.sort(key=lambda g: (-g.count, g.signature.key))
     return groups
 
 
+#: Columns of :func:`groups_frame`.
+GROUP_COLUMNS = ("algorithm", "sphere", "eps", "stage", "status", "checks", "severity", "error", "frame",
+                 "failures", "calls", "rate", "cases", "n_families", "families", "smallest_case_id",
+                 "smallest_n_points", "representative_case_id", "slug")
+
+
 def groups_frame(groups: list[FailureGroup]) -> pd.DataFrame:
-    """The groups as a table: signature columns, counts, rate, smallest and representative case."""
-    cols = ["algorithm", "sphere", "eps", "check", "family", "failures", "calls", "rate",
-            "cases", "smallest_case_id", "smallest_n_points", "representative_case_id", "slug"]
+    """The groups as a table: signature columns, counts, rate, families, smallest and representative case."""
+    cols = list(GROUP_COLUMNS)
     records = [
         {**g.signature.as_dict(), "failures": g.count, "calls": g.calls,
          "rate": round(g.count / g.calls, 3) if g.calls else 0.0, "cases": g.cases,
+         "n_families": len(g.families), "families": " ".join(f"{f}:{n}" for f, n in g.families),
          "smallest_case_id": g.smallest_case_id, "smallest_n_points": g.smallest_n_points,
          "representative_case_id": g.representative_case_id, "slug": g.slug}
         for g in groups

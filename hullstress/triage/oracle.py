@@ -23,7 +23,7 @@ from ..results import ResultRow
 from .signature import Signature, signature_of
 
 __all__ = ["IsolationUnavailable", "isolated_runner", "run_config", "fails_same_way", "same_failure",
-           "error_kind", "DEFAULT_TIMEOUT"]
+           "DEFAULT_TIMEOUT"]
 
 #: Per-call timeout (seconds) for isolated calls when the caller gives none.
 DEFAULT_TIMEOUT = DEFAULTS.call_timeout
@@ -51,7 +51,7 @@ def run_config(
     timeout: float | None = None,
     isolate: bool | None = None,
     dangerous: bool = False,
-    qhull_options: str | None = None,
+    qhull: bool = True,
 ) -> ResultRow:
     """Run and judge ``config`` on ``case`` once.
 
@@ -67,8 +67,8 @@ def run_config(
     dangerous : bool
         The call is expected to hang or crash (a timeout/crash signature): it
         is never run in-process.
-    qhull_options : str, optional
-        Qhull options tried first for the reference (the run's ``--qhull-options``).
+    qhull : bool
+        Compute the Qhull reference (the ``qhull_agreement`` check needs it).
 
     Returns
     -------
@@ -76,10 +76,7 @@ def run_config(
     """
     run_one = isolated_runner() if isolate is not False else None
     if run_one is not None:
-        timeout = timeout if timeout is not None else DEFAULT_TIMEOUT
-        if qhull_options is None:
-            return run_one(case, config, timeout=timeout)
-        return run_one(case, config, timeout=timeout, qhull_options=qhull_options)
+        return run_one(case, config, timeout=timeout if timeout is not None else DEFAULT_TIMEOUT, qhull=qhull)
     if isolate or dangerous:
         raise IsolationUnavailable(
             f"reproducing {config.label} safely needs hullstress.runner.run_one "
@@ -87,7 +84,7 @@ def run_config(
         )
     from ..evaluate import evaluate
 
-    return evaluate(case, config, qhull_options=qhull_options)
+    return evaluate(case, config, qhull=qhull)
 
 
 def fails_same_way(
@@ -97,13 +94,13 @@ def fails_same_way(
     *,
     timeout: float | None = None,
     isolate: bool | None = None,
-    error: str | None = None,
-    qhull_options: str | None = None,
 ) -> bool:
-    """True when running ``config`` on ``case`` fails with ``signature``'s failed check.
+    """True when running ``config`` on ``case`` fails with exactly ``signature``.
 
-    The family is provenance, not behaviour: a shrunk or file-loaded copy of a
-    case fails "the same way" when the config and the failed check match.
+    The family is provenance, not behaviour, and is not part of a signature:
+    a shrunk or file-loaded copy of a case fails "the same way" when its row
+    has the same signature (config, stage, status, failed checks and
+    severity, exception type and frame).
 
     Parameters
     ----------
@@ -112,8 +109,6 @@ def fails_same_way(
     signature : Signature
     timeout, isolate
         As in :func:`run_config`.
-    error : str, optional
-        For ``error`` signatures: also require this exception type (see :func:`same_failure`).
 
     Examples
     --------
@@ -124,48 +119,10 @@ def fails_same_way(
     >>> fails_same_way(Case.from_points([[0, 0], [1, 0], [0, 1]]), config, sig)  # doctest: +SKIP
     False
     """
-    row = run_config(case, config, timeout=timeout, isolate=isolate,
-                     dangerous=signature.check in ("timeout", "crash"), qhull_options=qhull_options)
-    return same_failure(row, signature, error=error)
+    row = run_config(case, config, timeout=timeout, isolate=isolate, dangerous=signature.dangerous)
+    return same_failure(row, signature)
 
 
-def error_kind(row: ResultRow | Any) -> str:
-    """For an ``error`` row, the exception's type name (``internal`` for harness errors); else ``""``.
-
-    Examples
-    --------
-    >>> error_kind({"status": "error", "reason": "ZeroDivisionError: division by zero"})
-    'ZeroDivisionError'
-    >>> error_kind({"status": "error", "reason": "internal: checker raised KeyError: 3"})
-    'internal'
-    """
-    if row.get("status") != "error":
-        return ""
-    reason = str(row.get("reason") or "")
-    if reason.startswith("internal:"):
-        return "internal"
-    return reason.split(":", 1)[0].strip()
-
-
-def same_failure(row: ResultRow | Any, signature: Signature, *, error: str | None = None) -> bool:
-    """True when ``row`` fails with ``signature``'s config, stage and failed check (family ignored).
-
-    Parameters
-    ----------
-    row : ResultRow
-    signature : Signature
-    error : str, optional
-        For ``error`` signatures, the exception type the original raised
-        (:func:`error_kind`): a different exception is a different bug, and a
-        harness-internal error never stands in for the algorithm's.
-    """
-    sig = signature_of(row)
-    if sig is None or sig.check != signature.check:
-        return False
-    if (sig.algorithm, sig.sphere, sig.eps, sig.stage) != (signature.algorithm, signature.sphere, signature.eps,
-                                                            signature.stage):
-        return False
-    kind = error_kind(row)
-    if kind == "internal":
-        return False
-    return error is None or sig.check != "error" or kind == error
+def same_failure(row: ResultRow | Any, signature: Signature) -> bool:
+    """True when ``row``'s signature is exactly ``signature``."""
+    return signature_of(row) == signature

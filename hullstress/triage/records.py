@@ -1,5 +1,12 @@
 """Triage's plain records: what shrinking produced and what the report writes out.
 
+* :class:`ShrinkResult` -- one shrink: the minimal case and how it was reached.
+* :class:`TriageRecord` -- one failure group triaged: its shrink and the evidence.
+* :class:`Cause` -- failure groups whose minimal inputs coincide (up to
+  translation, power-of-two scaling, row and axis order): one bug, reported
+  once, with every config and family it covers.
+* :class:`TriageResult` -- the stage's output.
+
 Kept apart from the code that makes them (:mod:`.shrink`, :mod:`.stage`) so
 that the report stage can read them without importing anything that runs an
 algorithm.
@@ -7,9 +14,9 @@ algorithm.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
-
 
 from ..case import Case
 from ..config import AlgorithmConfig
@@ -18,7 +25,7 @@ from .grouping import FailureGroup
 from .signature import Signature
 from .simplify import mantissa_bits
 
-__all__ = ["ShrinkResult", "TriageRecord", "TriageResult"]
+__all__ = ["ShrinkResult", "TriageRecord", "Cause", "TriageResult", "merge_family_counts"]
 
 
 @dataclass(frozen=True)
@@ -40,13 +47,18 @@ class ShrinkResult:
         The original case failed with ``signature`` when re-run.  When False,
         ``case`` is the original and ``note`` says why.
     exhausted : bool
-        The time or call budget ran out before the passes finished.
+        The evaluation budget (or the wall-clock safety net) ran out before the passes finished.
     row : ResultRow or None
         The failing row of ``case`` (its verdict, offending indices, reason).
     steps : tuple of str
         One line per accepted simplification, for the report.
     note : str
         Why shrinking stopped early or did not run, or ``""``.
+    adopted : bool
+        The shrink started from another group's minimal case, not from its own.
+    verified : bool or None
+        The minimal case, re-run at the end, failed with the signature again
+        (False: flaky; None: not re-run).
     """
 
     case: Case
@@ -61,6 +73,8 @@ class ShrinkResult:
     row: ResultRow | None = None
     steps: tuple[str, ...] = field(default=())
     note: str = ""
+    adopted: bool = False
+    verified: bool | None = None
 
     @property
     def max_mantissa_bits(self) -> int:
@@ -106,6 +120,99 @@ class TriageRecord:
         """The minimal case."""
         return self.shrink.case
 
+    @property
+    def families(self) -> tuple[tuple[str, int], ...]:
+        """Failing calls per family (the group's; the case's own family outside a sweep)."""
+        if self.group is not None and self.group.families:
+            return self.group.families
+        return ((self.shrink.original.family, 1),)
+
+    @property
+    def failures(self) -> int:
+        """Failing calls of the group (1 outside a sweep)."""
+        return self.group.count if self.group is not None else 1
+
+
+def merge_family_counts(parts: Sequence[tuple[tuple[str, int], ...]]) -> tuple[tuple[str, int], ...]:
+    """Add up per-family counts; most first, ties by name.
+
+    Examples
+    --------
+    >>> merge_family_counts([(("a", 2), ("b", 1)), (("b", 3),)])
+    (('b', 4), ('a', 2))
+    """
+    total: dict[str, int] = {}
+    for part in parts:
+        for family, n in part:
+            total[family] = total.get(family, 0) + int(n)
+    return tuple(sorted(total.items(), key=lambda fn: (-fn[1], fn[0])))
+
+
+@dataclass(frozen=True)
+class Cause:
+    """Failure groups whose minimal inputs coincide: one bug, whatever the configs and families.
+
+    Attributes
+    ----------
+    key : str
+        :func:`~.canonical.canonical_key` of the minimal input shared by the
+        members (for a group that was not minimised: its own, unmerged).
+    records : tuple of TriageRecord
+        The members, worst group first; the first is the representative whose
+        minimal case the cause's folder holds.
+    """
+
+    key: str
+    records: tuple[TriageRecord, ...]
+
+    @property
+    def representative(self) -> TriageRecord:
+        return self.records[0]
+
+    @property
+    def signature(self) -> Signature:
+        return self.representative.signature
+
+    @property
+    def slug(self) -> str:
+        """The cause's folder name: its representative's signature slug."""
+        return self.signature.slug
+
+    @property
+    def failures(self) -> int:
+        """Failing calls over every member group."""
+        return sum(r.failures for r in self.records)
+
+    @property
+    def families(self) -> tuple[tuple[str, int], ...]:
+        """Failing calls per family over every member, most first."""
+        return merge_family_counts([r.families for r in self.records])
+
+    @property
+    def configs(self) -> tuple[str, ...]:
+        """Config labels of the members, in member order, without repeats."""
+        return tuple(dict.fromkeys(r.config.label for r in self.records))
+
+    @property
+    def minimal_size(self) -> int:
+        return self.representative.shrink.minimal_size
+
+    @property
+    def headline(self) -> str:
+        """One line: the representative's label, and how many more configs fail the same way.
+
+        Examples
+        --------
+        ``gift-wrap-3d[sphere=off,eps=scaled] fail containment (gross) (+3 configs)``
+        """
+        more = len(self.configs) - 1
+        return self.signature.label + (f" (+{more} config{'s' if more > 1 else ''})" if more > 0 else "")
+
+    @property
+    def minimised(self) -> bool:
+        """The representative's case was shrunk (not merely the smallest failing case as found)."""
+        return self.representative.shrink.reproduced
+
 
 @dataclass
 class TriageResult:
@@ -117,15 +224,25 @@ class TriageResult:
         Every failure group of the table, worst first.
     records : list of TriageRecord
         One per group that was triaged, in the same order.
+    causes : list of Cause
+        The records merged by coinciding minimal input, worst first (most
+        failing calls; ties in group order).  Every record is in exactly one.
     notes : list of str
         How triage ran: budgets, groups not shrunk or without a record.
     seconds : float
     stopped : bool
         Triage was interrupted before every group was handled.
+    calls : int
+        Judged calls triage made (shrinks, cross-checks, verification).
+    safety_net : bool
+        The wall-clock safety net stopped triage: what it produced may differ between runs.
     """
 
     groups: list[FailureGroup]
     records: list[TriageRecord] = field(default_factory=list)
+    causes: list[Cause] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
     seconds: float = 0.0
     stopped: bool = False
+    calls: int = 0
+    safety_net: bool = False

@@ -1,19 +1,28 @@
-"""Failure signatures: how two failing calls are judged to be "the same failure".
+"""Failure signatures: what makes two failing calls "the same bug".
 
-A signature is (algorithm, sphere, eps, failed check, family, stage).  The
-stage (:class:`~hullstress.records.Stage`) keeps a failure of the sphere
-method or of the checker apart from the algorithm's own.  The *failed
-check* is
+A :class:`Signature` is everything a row says about *how* a call failed,
+and nothing about the input that made it fail:
 
-* for status ``fail``: ``contract`` when the output broke the output contract
-  (the row's reason starts with ``output contract:``), else the first failed
-  check in :data:`hullstress.verdict.CHECKS` order, else ``collapsed`` (the
-  sphere method left too little of the input to map back: stage
-  ``preprocess``), else ``invalid-input`` (tables from before non-finite
-  input had its own rule: a hull returned for it);
-* for ``error``, ``timeout`` and ``crash``: the status itself.
+* the algorithm config (algorithm, sphere, eps);
+* the stage that produced the verdict (``preprocess``, ``algorithm`` or
+  ``check``; rows written before the stage column existed read as
+  ``algorithm``);
+* the status (``fail``, ``error``, ``timeout``, ``crash``);
+* for ``fail``: every failed check (in :data:`hullstress.verdict.CHECKS`
+  order) and the severity of the worst violation, or ``contract`` when the
+  output broke the output contract, or ``invalid-input`` when a hull came
+  back for an input that should have been rejected;
+* for ``error``: the exception's type and the innermost frame of the code
+  under test that raised it (the ``error_frame`` column), the way Hypothesis
+  tells failures apart by exception type and location; ``internal`` for
+  hullstress's own errors;
+* for ``crash``: how the worker died (the signal's name or the exit code).
 
-``pass`` and ``rejected`` rows have no signature.
+The generator family is *not* part of it: one bug shows up in many families,
+and the report lists the families a failure group covers instead.  Failure
+groups are signatures (:mod:`.grouping`), and the shrinker keeps a group's
+signature exactly (:mod:`.shrink`).  ``pass`` and ``rejected`` rows have no
+signature.
 """
 
 from __future__ import annotations
@@ -21,22 +30,29 @@ from __future__ import annotations
 import hashlib
 import re
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 from typing import Any
 
 from ..config import AlgorithmConfig
-from ..records import CONTRACT_REASON, METHOD_REASON, Stage
+from ..records import CONTRACT_REASON
 from ..verdict import CHECKS
 
-__all__ = ["Signature", "failed_check", "signature_of", "stage_of", "FAILED_STATUSES", "FAILED_CHECKS"]
+__all__ = ["Signature", "failed_check", "failed_checks_of", "signature_of", "stage_of", "FAILED_STATUSES",
+           "FAILED_CHECKS", "DEFAULT_STAGE"]
 
 #: Statuses that are failures of the code under test (``rejected`` is acceptable behaviour).
 FAILED_STATUSES = ("fail", "error", "timeout", "crash")
+#: The stage of a row that does not say (tables written before the ``stage`` column).
+DEFAULT_STAGE = "algorithm"
 
 #: Every value the "failed check" part of a signature can take (``shrink --check`` accepts these).
 FAILED_CHECKS = ("contract",) + tuple(CHECKS) + ("invalid-input", "error", "timeout", "crash")
 
+_CONTRACT_PREFIX = CONTRACT_REASON
+_INTERNAL_PREFIX = "internal:"
 _UNSAFE = re.compile(r"[^A-Za-z0-9._-]+")
+_SIGNAL = re.compile(r"\((SIG[A-Z0-9]+)\)")
+_EXIT = re.compile(r"exited with code (-?\d+)")
 
 
 def _text(value: Any) -> str:
@@ -53,17 +69,45 @@ def _text(value: Any) -> str:
     return str(value)
 
 
-def failed_check(status: str, reason: Any = "", failed_checks: Any = "") -> str | None:
-    """The "failed check" part of a signature, or None for pass/rejected.
+def stage_of(value: Any) -> str:
+    """A row's stage cell as a string; ``algorithm`` when missing (tables from before the stage column).
 
-    Parameters
-    ----------
-    status : str
-        The row's status.
-    reason : str
-        The row's one-line reason.
-    failed_checks : str
-        The row's comma-joined failed checks.
+    Examples
+    --------
+    >>> stage_of("preprocess"), stage_of(None), stage_of(float("nan"))
+    ('preprocess', 'algorithm', 'algorithm')
+    """
+    return _text(value) or DEFAULT_STAGE
+
+
+def failed_checks_of(status: str, reason: Any = "", failed_checks: Any = "") -> str:
+    """The ``checks`` part of a signature: what a ``fail`` failed, ``""`` for other statuses.
+
+    Examples
+    --------
+    >>> failed_checks_of("fail", "", "qhull_agreement,containment")
+    'containment,qhull_agreement'
+    >>> failed_checks_of("fail", "output contract: index 7 out of range", "")
+    'contract'
+    >>> failed_checks_of("error", "ValueError: x", "")
+    ''
+    """
+    if status != "fail":
+        return ""
+    if _text(reason).startswith(_CONTRACT_PREFIX):
+        return "contract"
+    checks = [c for c in _text(failed_checks).split(",") if c]
+    if checks:
+        # Report order, whatever order the cell lists them in; unknown names (a newer checker) after.
+        return ",".join([c for c in CHECKS if c in checks] + sorted(c for c in set(checks) if c not in CHECKS))
+    return "invalid-input"
+
+
+def failed_check(status: str, reason: Any = "", failed_checks: Any = "") -> str | None:
+    """One word for how a row failed: its first failed check, or its status; None for pass/rejected.
+
+    This is the short form the regression corpus records (``fail:containment``);
+    a :class:`Signature` keeps every failed check.
 
     Examples
     --------
@@ -78,48 +122,64 @@ def failed_check(status: str, reason: Any = "", failed_checks: Any = "") -> str 
         return None
     if status != "fail":
         return status
-    if _text(reason).startswith(CONTRACT_REASON):
-        return "contract"
-    checks = [c for c in _text(failed_checks).split(",") if c]
-    if checks:
-        # The first in report order, whatever order the cell lists them in.
-        known = [c for c in CHECKS if c in checks]
-        return known[0] if known else checks[0]
-    if _text(reason).startswith(METHOD_REASON):
-        return "collapsed"
-    return "invalid-input"
+    return failed_checks_of(status, reason, failed_checks).split(",")[0]
+
+
+def _error_kind(status: str, reason: str) -> str:
+    if status == "error":
+        if reason.startswith(_INTERNAL_PREFIX):
+            return "internal"
+        return reason.split(":", 1)[0].strip()
+    if status == "crash":
+        signal = _SIGNAL.search(reason)
+        if signal:
+            return signal.group(1)
+        code = _EXIT.search(reason)
+        return f"exit {code.group(1)}" if code else (reason.split(":", 1)[0].strip() or "crash")
+    return ""
 
 
 @dataclass(frozen=True, order=True)
 class Signature:
-    """What makes two failures the same: algorithm config, failed check and family.
+    """How a call failed: the identity of a failure group.
 
     Attributes
     ----------
     algorithm, sphere, eps : str
         The algorithm config (``eps`` is ``n/a`` for algorithms without eps).
-    check : str
-        See :func:`failed_check`.
-    family : str
-        The generator family (``file`` for points files).
-    stage : str
-        The stage that failed (``algorithm``, ``preprocess`` or ``check``).
+    stage : {"preprocess", "algorithm", "check"}
+        The part of the call that produced the verdict.
+    status : {"fail", "error", "timeout", "crash"}
+    checks : str
+        For ``fail``: the failed checks, comma-joined in report order, or
+        ``contract`` or ``invalid-input``; ``""`` otherwise.
+    severity : str
+        For ``fail`` with failed checks: ``none``, ``roundoff`` or ``gross``; ``""`` otherwise.
+    error : str
+        For ``error``: the exception type (``internal`` for hullstress's own);
+        for ``crash``: the signal (``SIGSEGV``) or ``exit N``; ``""`` otherwise.
+    frame : str
+        For ``error``: ``module:line in function``, the innermost frame of the
+        code under test; ``""`` otherwise or when unknown.
 
     Examples
     --------
-    >>> s = Signature("gift-wrap", "on", "fixed", "containment", "coplanar-grid")
+    >>> s = Signature("gift-wrap-3d", "on", "fixed", checks="containment", severity="gross")
     >>> s.slug
-    'gift-wrap__sphere-on__eps-fixed__containment__coplanar-grid'
-    >>> Signature("gift-wrap", "on", "fixed", "containment", "coplanar-grid", "preprocess").slug
-    'gift-wrap__sphere-on__eps-fixed__preprocess-containment__coplanar-grid'
+    'gift-wrap-3d__sphere-on__eps-fixed__fail__containment__gross'
+    >>> s.label
+    'gift-wrap-3d[sphere=on,eps=fixed] fail containment (gross)'
     """
 
     algorithm: str
     sphere: str
     eps: str
-    check: str
-    family: str
-    stage: str = Stage.ALGORITHM.value
+    stage: str = DEFAULT_STAGE
+    status: str = "fail"
+    checks: str = ""
+    severity: str = ""
+    error: str = ""
+    frame: str = ""
 
     @property
     def config(self) -> AlgorithmConfig:
@@ -127,38 +187,80 @@ class Signature:
         return AlgorithmConfig(self.algorithm, self.sphere, self.eps)
 
     @property
-    def status(self) -> str:
-        """The row status this signature implies (``fail`` for check and contract failures)."""
-        return self.check if self.check in ("error", "timeout", "crash") else "fail"
+    def check(self) -> str:
+        """One word: the first failed check for ``fail`` (``contract``, ``invalid-input``), else the status."""
+        return self.checks.split(",")[0] if self.status == "fail" and self.checks else self.status
+
+    @property
+    def dangerous(self) -> bool:
+        """Reproducing it hangs or kills the process: only ever run in an isolated worker."""
+        return self.status in ("timeout", "crash")
+
+    @property
+    def what(self) -> str:
+        """How it failed, without the config: ``fail containment,qhull_agreement (gross)``.
+
+        Examples
+        --------
+        >>> Signature("a", "off", "n/a", status="error", error="ZeroDivisionError", frame="m:3 in f").what
+        'error ZeroDivisionError at m:3 in f'
+        """
+        parts = [self.status]
+        if self.stage != DEFAULT_STAGE:
+            parts[0] = f"{self.status} in {self.stage}"
+        if self.checks:
+            parts.append(self.checks)
+        if self.severity:
+            parts.append(f"({self.severity})")
+        if self.error:
+            parts.append(self.error)
+        if self.frame:
+            parts.append(f"at {self.frame}")
+        return " ".join(parts)
+
+    @property
+    def label(self) -> str:
+        """``alg[sphere=on,eps=fixed] fail containment (gross)``: for reports."""
+        return f"{self.config.label} {self.what}"
 
     @property
     def slug(self) -> str:
         """A filesystem-safe folder name, unique per signature.
 
-        Characters outside ``[A-Za-z0-9._-]`` become ``-``; when that changed
-        anything (so two signatures could collide) a short hash is appended.
+        Characters outside ``[A-Za-z0-9._-]`` become ``-``; the frame is not
+        spelled out.  A short hash of the whole signature is appended when
+        the frame is set, when sanitising changed anything (two signatures
+        could then collide) or when the name would be long.
         """
         # "n/a" is the one standard value with an unsafe character: spell it "na" up front.
         eps = "na" if self.eps == "n/a" else self.eps
-        check = self.check if self.stage == Stage.ALGORITHM else f"{self.stage}-{self.check}"
-        parts = (self.algorithm, f"sphere-{self.sphere}", f"eps-{eps}", check, self.family)
-        clean = [_UNSAFE.sub("-", p).strip("-.") or "x" for p in parts]
+        parts = [self.algorithm, f"sphere-{self.sphere}", f"eps-{eps}"]
+        if self.stage != DEFAULT_STAGE:
+            parts.append(self.stage)
+        parts.append(self.status)
+        parts += [p for p in (self.checks, self.severity, self.error) if p]
+        clean = [_UNSAFE.sub("-", p.replace(",", "-")).strip("-.") or "x" for p in parts]
         slug = "__".join(clean)
-        raw = "__".join(parts)
-        if slug != raw or len(slug) > 150:
-            digest = hashlib.sha256(raw.encode()).hexdigest()[:8]
+        raw = "__".join(p.replace(",", "-") for p in parts)
+        if self.frame or slug != raw or len(slug) > 150:
+            digest = hashlib.sha256(repr(self.key).encode()).hexdigest()[:8]
             slug = f"{slug[:140]}__{digest}"
         return slug
 
     @property
-    def label(self) -> str:
-        """``alg[sphere=on,eps=fixed] containment on coplanar-grid``: for reports (the stage when not the algorithm)."""
-        stage = "" if self.stage == Stage.ALGORITHM else f" (stage {self.stage})"
-        return f"{self.config.label} {self.check} on {self.family}{stage}"
+    def key(self) -> tuple[str, ...]:
+        """The fields as a tuple (stable order; what the slug's hash covers)."""
+        return (self.algorithm, self.sphere, self.eps, self.stage, self.status, self.checks, self.severity,
+                self.error, self.frame)
 
     def as_dict(self) -> dict[str, str]:
-        return {"algorithm": self.algorithm, "sphere": self.sphere, "eps": self.eps,
-                "check": self.check, "family": self.family, "stage": self.stage}
+        return asdict(self)
+
+    @classmethod
+    def from_dict(cls, values: Mapping[str, Any]) -> "Signature":
+        """The inverse of :meth:`as_dict` (unknown keys ignored, missing ones defaulted)."""
+        fields = cls.__dataclass_fields__
+        return cls(**{k: str(v) for k, v in values.items() if k in fields and v is not None})
 
 
 def signature_of(row: Mapping[str, Any] | Any) -> Signature | None:
@@ -166,27 +268,24 @@ def signature_of(row: Mapping[str, Any] | Any) -> Signature | None:
 
     Examples
     --------
-    >>> signature_of({"algorithm": "a", "sphere": "off", "eps": "n/a", "generator": "dup",
-    ...               "status": "error", "reason": "ZeroDivisionError", "failed_checks": ""}).check
-    'error'
-    >>> signature_of({"algorithm": "a", "sphere": "off", "eps": "n/a", "generator": "dup",
-    ...               "status": "pass", "reason": "", "failed_checks": ""}) is None
+    >>> signature_of({"algorithm": "a", "sphere": "off", "eps": "n/a", "status": "error",
+    ...               "reason": "ZeroDivisionError: division by zero", "error_frame": "m:3 in f"}).error
+    'ZeroDivisionError'
+    >>> signature_of({"algorithm": "a", "sphere": "off", "eps": "n/a", "status": "crash",
+    ...               "reason": "killed by signal 11 (SIGSEGV)"}).error
+    'SIGSEGV'
+    >>> signature_of({"algorithm": "a", "sphere": "off", "eps": "n/a", "status": "pass"}) is None
     True
     """
     get = row.get
-    check = failed_check(str(get("status")), get("reason", ""), get("failed_checks", ""))
-    if check is None:
+    status = _text(get("status"))
+    if status not in FAILED_STATUSES:
         return None
-    return Signature(str(get("algorithm")), str(get("sphere")), str(get("eps")), check, str(get("generator")),
-                     stage_of(get("stage", "")))
-
-
-def stage_of(value: Any) -> str:
-    """A row's stage cell as a string; ``algorithm`` when missing (tables from before the stage column).
-
-    Examples
-    --------
-    >>> stage_of("preprocess"), stage_of(None), stage_of(float("nan"))
-    ('preprocess', 'algorithm', 'algorithm')
-    """
-    return _text(value) or Stage.ALGORITHM.value
+    reason = _text(get("reason"))
+    checks = failed_checks_of(status, reason, get("failed_checks"))
+    severity = _text(get("severity")) if status == "fail" and checks not in ("contract", "invalid-input") else ""
+    return Signature(
+        algorithm=_text(get("algorithm")), sphere=_text(get("sphere")), eps=_text(get("eps")),
+        stage=stage_of(get("stage")), status=status, checks=checks, severity=severity,
+        error=_error_kind(status, reason), frame=_text(get("error_frame")) if status == "error" else "",
+    )

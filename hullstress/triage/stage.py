@@ -1,34 +1,99 @@
-"""The triage stage: failing rows -> groups -> one minimised, verified case per group.
+"""The triage stage: failing rows -> groups -> minimal cases -> causes, deterministically and in parallel.
 
-:func:`triage_failures` reads the results table and the cases, and returns
-plain records (:class:`TriageRecord`) that the report stage writes out; it is
-the only stage after the sweep that runs code under test.  Its time is
-bounded by the profile's :class:`~hullstress.options.TriageBudget`: groups
-are handled worst first; past the shrink budget a group keeps its smallest
-failing case unshrunk; past the total budget (or the cap on folders) a group
-gets no record and stays in the tables only.  :attr:`TriageResult.notes`
-says how many of each.
+:func:`triage_failures` reads the results table and the cases and returns
+plain records (:mod:`.records`) that the report stage writes out; it is the
+only stage after the sweep that runs code under test.
+
+How it works
+------------
+1. **Group** the failing rows by signature (:func:`.grouping.group_failures`),
+   worst first.
+2. **Shrink in chains of waves** (:func:`plan_chains`).  Groups of one
+   *kind* of failure (dimension, stage, status, failed checks and severity,
+   exception type: the signature without the config) form a chain of waves
+   of 1, 1, 2, 4, 8 ... groups; a wave starts when the one before it in its
+   chain has finished, and every chain runs at once.  Before shrinking its
+   own smallest failing case, a group tries a few minimal cases found so far
+   (:data:`TRIES`: for its own kind, same variant first, then for other
+   kinds): the first on which its config fails with exactly its signature
+   becomes its start, and it then only checks that no point can go.  All
+   running shrinks advance in lockstep (:class:`.shrink.Shrinker`): each
+   round gathers one candidate from every running shrink and runs them as
+   one batch on a pool of isolated workers
+   (:class:`hullstress.runner.CallPool`), one job per distinct candidate,
+   so shrinks that ask about the same points share the case facts.  A
+   candidate that crashes or hangs is a row like any other (``crash``,
+   ``timeout``), never the end of triage.  Hangs are shrunk last, on their
+   own budget (each failing call lasts the whole timeout).
+3. **Merge**: groups whose minimal cases coincide up to translation,
+   power-of-two scaling, row and axis order (:mod:`.canonical`) form one
+   :class:`~.records.Cause`.
+4. **Verify**: every shrink ends by re-running its minimal case exactly (a
+   flaky failure is marked as such); groups left unshrunk are re-run in one
+   batch.  Each cause's evidence (the algorithm's output for the picture) is
+   gathered here, so that the report runs nothing.
+
+Every decision depends on the rows alone: shrinks are budgeted in
+evaluations (:class:`~hullstress.options.TriageBudget`), chains depend on
+the groups only, and rounds, not seconds, decide when a wave starts and what
+it may try, so the same
+table gives the same causes and minimal cases whatever the number of workers
+and whatever the machine's load.  Only the wall-clock safety net, an
+interrupt, or a call near its timeout can change that, and the first two
+are written into the notes.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 
+import numpy as np
 import pandas as pd
 
 from ..case import Case
 from ..config import AlgorithmConfig
 from ..options import DEFAULTS, TriageBudget
 from ..results import ResultRow
+from .canonical import canonical_key
 from .evidence import output_faces, storage_kind, verify_from_storage
 from .grouping import FailureGroup, group_failures
 from .oracle import DEFAULT_TIMEOUT
-from .records import ShrinkResult, TriageRecord, TriageResult
-from .shrink import shrink as shrink_case
-from .signature import Signature
+from .records import Cause, ShrinkResult, TriageRecord, TriageResult
+from .shrink import Question, Shrinker, candidate_case
+from .signature import Signature, signature_of
 
-__all__ = ["TriageRecord", "TriageResult", "triage_failures", "triage_one"]
+__all__ = ["TriageRecord", "TriageResult", "triage_failures", "triage_one", "plan_chains", "TRIES", "Progress"]
+
+#: Known minimal cases a group tries before shrinking its own case (one evaluation each): found for
+#: groups of its own kind of failure, and for groups of other kinds.
+TRIES = (2, 1)
+
+#: ``progress(done, total, detail)``: groups finished of groups to triage, and a few words.
+Progress = Callable[[int, int, str], None]
+
+_INTERRUPTED = "triage was interrupted: the case is smaller but may not be minimal"
+
+
+class _Halt(Exception):
+    """Triage must end now: an interrupt, or the wall-clock safety net."""
+
+    def __init__(self, note: str, *, interrupted: bool) -> None:
+        super().__init__(note)
+        self.note, self.interrupted = note, interrupted
+
+
+@dataclass
+class _Known:
+    """A minimal case found so far, and the groups it was found for (first one first)."""
+
+    points: np.ndarray
+    dim: int
+    key: str
+    slug: str
+    signatures: list[Signature]
 
 
 def _unshrunk(case: Case, signature: Signature, row: ResultRow | None, note: str) -> ShrinkResult:
@@ -43,8 +108,8 @@ def _table_row(table: pd.DataFrame, index: int) -> ResultRow:
 
 
 def triage_one(result: ShrinkResult, config: AlgorithmConfig, *, group: FailureGroup | None = None,
-               timeout: float | None = None, verify: bool = True, qhull_options: str | None = None) -> TriageRecord:
-    """Gather a shrink result's evidence: the output faces, the storage form, the verification.
+               timeout: float | None = None, verify: bool = True) -> TriageRecord:
+    """Gather one shrink result's evidence here, call by call (``shrink`` and ``fuzz`` commands).
 
     Parameters
     ----------
@@ -56,16 +121,248 @@ def triage_one(result: ShrinkResult, config: AlgorithmConfig, *, group: FailureG
         Per-call timeout for the verification run.
     verify : bool
         Re-run the case from its stored form (skipped for hangs: a full timeout each).
-    qhull_options : str, optional
-        The run's ``--qhull-options`` (the verification's reference uses them).
     """
     sig = result.signature
-    dangerous = sig.check in ("timeout", "crash")
     kind = storage_kind(result.case.points)
-    faces, note = output_faces(result.case, config, sig) if not dangerous else (None, f"no output: {sig.check}")
-    verified = verify_from_storage(result.case, kind, config, sig, timeout, qhull_options) if verify else None
+    faces, note = output_faces(result.case, config, sig) if not sig.dangerous else (None, f"no output: {sig.status}")
+    verified = verify_from_storage(result.case, kind, config, sig, timeout) if verify else None
     return TriageRecord(signature=sig, config=config, group=group, shrink=result, faces=faces,
                         faces_note=note, storage=kind, verified=verified)
+
+
+class _Triage:
+    """One run of the stage: the pool, the budget, the waves."""
+
+    def __init__(self, pool: object, *, budget: TriageBudget, timeout: float, qhull: bool,
+                 should_stop: Callable[[], bool] | None, progress: Progress | None, total: int,
+                 qhull_options: str | None = None) -> None:
+        self.pool = pool
+        self.budget, self.qhull = budget, qhull
+        self.qhull_options = qhull_options
+        self.sweep_timeout = timeout
+        self.timeout = min(timeout, budget.call_timeout)
+        self.should_stop, self.progress = should_stop, progress
+        self.start = time.perf_counter()
+        self.used = 0
+        self.done = 0
+        self.total = total
+        self.rounds = 0
+
+    # -- running candidates -------------------------------------------------
+
+    def _check_halt(self) -> None:
+        if self.should_stop is not None and self.should_stop():
+            raise _Halt(_INTERRUPTED, interrupted=True)
+        limit = self.budget.safety_seconds
+        if time.perf_counter() - self.start > limit:
+            raise _Halt(f"stopped by the wall-clock safety net ({limit:g} s): the case may not be minimal, "
+                        "and may differ between runs", interrupted=False)
+
+    def batch(self, requests: Sequence[tuple[np.ndarray, int, AlgorithmConfig, bool]]) -> list[ResultRow]:
+        """Run (points, dim, config, needs qhull) requests as one batch; rows in request order."""
+        from ..runner import Task
+
+        cases: dict[str, Case] = {}
+        configs: dict[str, list[AlgorithmConfig]] = {}
+        needs_qhull: set[str] = set()
+        keys = []
+        for points, dim, config, needs in requests:
+            case = candidate_case(points, dim)
+            cases.setdefault(case.case_id, case)
+            configs.setdefault(case.case_id, []).append(config)
+            keys.append((case.case_id, config.label))
+            if needs and self.qhull:
+                needs_qhull.add(case.case_id)
+        found: dict[tuple[str, str], ResultRow] = {}
+        for qhull in (True, False):
+            # A case that some request needs the Qhull reference for runs once, with it, for all of them;
+            # the others skip the reference (their verdicts cannot depend on it).
+            tasks = [Task(n, cases[cid], tuple(dict.fromkeys(cfgs))) for n, (cid, cfgs) in enumerate(configs.items())
+                     if (cid in needs_qhull) == qhull]
+            for task, rows in zip(tasks, self.pool.run(tasks, timeout=self.timeout, qhull=qhull,
+                                                          qhull_options=self.qhull_options)):
+                for config, row in zip(task.configs, rows):
+                    found[(task.case.case_id, config.label)] = row
+        return [found[k] for k in keys]
+
+    def _report(self, detail: str) -> None:
+        if self.progress is not None:
+            self.progress(self.done, self.total, detail)
+
+    # -- the chains of waves, in lockstep ------------------------------------
+
+    def run(self, groups: list[FailureGroup], cases: dict[str, Case], results: dict[int, ShrinkResult],
+            rows: dict[int, ResultRow]) -> None:
+        """Shrink ``groups`` (indexed by position) into ``results``; stops only by :class:`_Halt`."""
+        regular = [i for i, g in enumerate(groups) if g.signature.status != "timeout"]
+        hangs = [i for i, g in enumerate(groups) if g.signature.status == "timeout"]
+        chains = [[[regular[k] for k in wave] for wave in chain] for chain in plan_chains([groups[i] for i in regular])]
+        self._lockstep(chains, groups, cases, results, rows, cap_limit=self.budget.group_calls)
+        if hangs:
+            # A hang is a call that outlasts the sweep's timeout: shrink it with that one.
+            self.timeout = self.sweep_timeout
+            self._lockstep([[hangs]], groups, cases, results, rows, cap_limit=self.budget.hang_calls, learn=False)
+
+    def _lockstep(self, chains: list[list[list[int]]], groups: list[FailureGroup], cases: dict[str, Case],
+                  results: dict[int, ShrinkResult], rows: dict[int, ResultRow], *, cap_limit: int,
+                  learn: bool = True) -> None:
+        """Run every chain's waves, one after the other within a chain, all chains side by side.
+
+        Each round asks one question of every running shrink and runs them as one batch.  When the
+        last shrink of a chain's wave finishes, the chain's next wave starts in the next round, with
+        the minimal cases known by then.  Rounds are the clock: what starts when, with which budget
+        and which cases to try, depends on the answers only.
+        """
+        known: list[_Known] = []
+        position = [0] * len(chains)  # the wave each chain is at
+        running: dict[int, tuple[Shrinker, int]] = {}  # group -> (its shrink, its chain)
+        waiting = [0] * len(chains)  # shrinks of the current wave still running, per chain
+        questions: dict[int, Question] = {}
+
+        def start(c: int) -> None:
+            while position[c] < len(chains[c]):
+                wave = chains[c][position[c]]
+                position[c] += 1
+                cap = min(cap_limit, max(0, self.budget.calls - self.used) // max(1, len(wave)))
+                for i in wave:
+                    shrinker = self._shrinker(i, groups, cases, rows, known, cap, cap_limit, results)
+                    if shrinker is None:
+                        continue
+                    question = shrinker.ask()
+                    if question is None:
+                        finish(i, shrinker)
+                        continue
+                    running[i] = (shrinker, c)
+                    questions[i] = question
+                    waiting[c] += 1
+                if waiting[c]:
+                    return
+
+        def finish(i: int, shrinker: Shrinker) -> None:
+            results[i] = shrinker.result()
+            self.done += 1
+            if learn:
+                self._learn([i], groups, results, known)
+
+        for c in range(len(chains)):
+            start(c)
+        try:
+            while running:
+                self._check_halt()
+                order = sorted(running)
+                answers = self.batch([(questions[i][0], cases[groups[i].smallest_case_id].dim,
+                                       groups[i].signature.config, questions[i][1]) for i in order])
+                self.rounds += 1
+                self.used += len(order)
+                restart = []
+                for i, row in zip(order, answers):
+                    shrinker, c = running[i]
+                    question = shrinker.answer(row)
+                    if question is not None:
+                        questions[i] = question
+                        continue
+                    del running[i], questions[i]
+                    finish(i, shrinker)
+                    waiting[c] -= 1
+                    if waiting[c] == 0:
+                        restart.append(c)
+                for c in sorted(restart):
+                    start(c)
+                self._report(f"round {self.rounds}")
+        except (_Halt, KeyboardInterrupt) as exc:
+            # The shrinks cut short keep their best exact case so far; their note says why.
+            note = exc.note if isinstance(exc, _Halt) else _INTERRUPTED
+            for i, (shrinker, _) in running.items():
+                results[i] = shrinker.stop(note)
+            raise
+
+    def _shrinker(self, i: int, groups: list[FailureGroup], cases: dict[str, Case], rows: dict[int, ResultRow],
+                  known: list[_Known], cap: int, cap_limit: int, results: dict[int, ShrinkResult]) -> Shrinker | None:
+        """Group ``i``'s shrink, trying the known minimal cases first; None (and an unshrunk result) without budget."""
+        g, case = groups[i], cases[groups[i].smallest_case_id]
+        if cap < 1:
+            why = ("each call of a hang lasts the whole timeout and the profile allows none"
+                   if g.signature.status == "timeout" and cap_limit == 0
+                   else "the triage evaluation budget was spent on earlier groups")
+            results[i] = _unshrunk(case, g.signature, rows.get(i), f"not shrunk: {why}")
+            self.done += 1
+            return None
+        tries = [(k.points, f"the minimal case of {k.slug}") for k in _ranked(known, g, case.dim)]
+        return Shrinker(case, g.signature, max_calls=cap, candidates=tries, qhull=self.qhull, row=rows.get(i))
+
+    @staticmethod
+    def _learn(members: list[int], groups: list[FailureGroup], results: dict[int, ShrinkResult],
+               known: list[_Known]) -> None:
+        """Remember minimal cases (one per input, up to exact transforms, with every group's signature)."""
+        seen = {k.key: k for k in known}
+        for i in members:
+            res = results.get(i)
+            if res is None or not res.reproduced:
+                continue
+            pts = np.asarray(res.case.points)
+            key = canonical_key(pts)
+            if key in seen:
+                seen[key].signatures.append(groups[i].signature)
+            else:
+                seen[key] = _Known(points=pts, dim=res.case.dim, key=key, slug=groups[i].slug,
+                                   signatures=[groups[i].signature])
+                known.append(seen[key])
+
+
+def _kind(signature: Signature) -> tuple[str, ...]:
+    """How a group fails, whatever the config: groups of one kind often share a minimal case."""
+    return (signature.stage, signature.status, signature.checks, signature.severity, signature.error)
+
+
+def plan_chains(groups: Sequence[FailureGroup]) -> list[list[list[int]]]:
+    """Positions of ``groups`` in chains of waves: one chain per kind, in waves of 1, 1, 2, 4, 8 ... groups.
+
+    A kind is the dimension and the failure without the config (stage,
+    status, checks, severity, exception type).  Within a chain, a wave starts
+    when the previous one has finished, so that its groups can start from the
+    minimal cases found first; the doubling keeps chains short.  Chains come
+    in the order of their first group; depends on the groups alone: five
+    groups of one kind and one of another make the chains [[0], [1], [2, 3],
+    [4]] and [[5]].
+    """
+    by_kind: dict[tuple, list[int]] = {}
+    for i, g in enumerate(groups):
+        by_kind.setdefault((g.dim, *_kind(g.signature)), []).append(i)
+    chains = []
+    for positions in by_kind.values():
+        chain, taken, size = [], 0, 1
+        while taken < len(positions):
+            chain.append(positions[taken:taken + size])
+            taken += size
+            if len(chain) >= 2:
+                size *= 2
+        chains.append(chain)
+    return chains
+
+
+def _ranked(known: list[_Known], group: FailureGroup, dim: int) -> list[_Known]:
+    """The known minimal cases worth trying for ``group``, best first (see :data:`TRIES`).
+
+    First cases of the same dimension found for groups of the same kind:
+    those of the same sphere and eps variant first, then of the same
+    algorithm, then the smallest.  Then cases found only for other kinds:
+    those that already stand for the most groups first (an input that breaks
+    many configs tends to break more), then the same sphere variant, then
+    the smallest.  Ties in the order they were found.
+    """
+    sig = group.signature
+    kind = _kind(sig)
+
+    def closeness(k: _Known) -> tuple:
+        return min((s.sphere != sig.sphere, s.eps != sig.eps, s.algorithm != sig.algorithm)
+                   for s in k.signatures if _kind(s) == kind)
+
+    same = [k for k in known if k.dim == dim and any(_kind(s) == kind for s in k.signatures)]
+    same.sort(key=lambda k: (*closeness(k), len(k.points)))
+    other = [k for k in known if k.dim == dim and all(_kind(s) != kind for s in k.signatures)]
+    other.sort(key=lambda k: (-len(k.signatures), all(s.sphere != sig.sphere for s in k.signatures),
+                              len(k.points)))
+    return same[:TRIES[0]] + other[:TRIES[1]]
 
 
 def triage_failures(
@@ -75,11 +372,15 @@ def triage_failures(
     budget: TriageBudget,
     shrink: bool = True,
     timeout: float | None = None,
+    workers: int = 1,
+    qhull: bool = True,
+    memory_limit_mb: float | None = DEFAULTS.memory_limit_mb,
     max_records: int = DEFAULTS.max_folders,
     should_stop: Callable[[], bool] | None = None,
+    progress: Progress | None = None,
     qhull_options: str | None = None,
 ) -> TriageResult:
-    """Group the table's failures and minimise and verify one case per group, within ``budget``.
+    """Group the table's failures, minimise one case per group, merge groups into causes.
 
     Parameters
     ----------
@@ -88,88 +389,167 @@ def triage_failures(
     cases : sequence of Case
         The cases whose ids appear in ``table``.
     budget : TriageBudget
-        Time limits (the profile's).
+        Evaluations and the safety net (the profile's).
     shrink : bool
         Shrink each group's smallest failing case (``--no-shrink`` turns it off).
     timeout : float, optional
-        The sweep's per-call timeout, reused for shrinking calls.
+        The sweep's per-call timeout, reused for every call triage makes.
+    workers : int
+        Isolated worker processes (the result does not depend on it).
+    qhull : bool
+        The sweep computed Qhull references (``--no-qhull`` turns them off):
+        shrinking must judge the same way.
+    memory_limit_mb : float or None
+        Address-space limit per worker, as in the sweep.
     max_records : int
         Cap on triaged groups (worst first).
     should_stop : callable, optional
-        Polled between groups and by the shrinker between calls; when it
-        returns True triage ends early (an interrupt).
+        Polled between rounds; when it returns True triage ends early (an interrupt).
+    progress : callable, optional
+        ``progress(done, total, detail)`` as groups finish.
     qhull_options : str, optional
-        The run's ``--qhull-options``, for every re-run's reference.
+        Qhull options tried first for every reference (the run's ``--qhull-options``),
+        so a shrunk case is judged as the sweep judged it.
 
     Returns
     -------
     TriageResult
     """
-    start = time.perf_counter()
+    from ..runner import CallPool
+
+    began = time.perf_counter()
     groups = group_failures(table)
     by_id = {c.case_id: c for c in cases}
-    records: list[TriageRecord] = []
-    spent = 0.0
-    not_shrunk = missing = 0
-    out_of_time = stopped = False
+    chosen = [g for g in groups[:max_records] if g.smallest_case_id in by_id]
+    missing = sum(1 for g in groups[:max_records] if g.smallest_case_id not in by_id)
+    rows = {i: _table_row(table, g.smallest_index) for i, g in enumerate(chosen)}
     call_timeout = timeout or DEFAULT_TIMEOUT
-    for group in groups[:max_records]:
-        try:
-            if should_stop is not None and should_stop():
+    results: dict[int, ShrinkResult] = {}
+    halt: _Halt | None = None
+    stopped = False
+    with CallPool(workers, memory_limit_mb=memory_limit_mb) as pool:
+        run = _Triage(pool, budget=budget, timeout=call_timeout, qhull=qhull, should_stop=should_stop,
+                      progress=progress, total=len(chosen), qhull_options=qhull_options)
+        if shrink and chosen:
+            try:
+                run.run(chosen, by_id, results, rows)
+            except _Halt as exc:
+                halt = exc
+            except KeyboardInterrupt:  # the pipeline's signal handler, raised inside a batch
+                halt = _Halt(_INTERRUPTED, interrupted=True)
+        for i, g in enumerate(chosen):
+            if i not in results:
+                note = ("not shrunk (--no-shrink)" if not shrink
+                        else "not shrunk: triage was interrupted first" if halt is not None and halt.interrupted
+                        else "not shrunk: the wall-clock safety net stopped triage first")
+                results[i] = _unshrunk(by_id[g.smallest_case_id], g.signature, rows[i], note)
+        stopped = halt is not None and halt.interrupted
+        for i, res in results.items():
+            if res.row is None:  # not shrunk: its row is the sweep's
+                results[i] = dataclasses.replace(res, row=rows[i])
+        causes = _merge(chosen, results)
+        verified: dict[int, bool | None] = {i: results[i].verified for i in results}
+        if not stopped:
+            try:
+                verified.update(_verify(run, chosen, results))
+            except (_Halt, KeyboardInterrupt):
                 stopped = True
-                break
-            if time.perf_counter() - start > budget.total:
-                out_of_time = True
-                break
-            case = by_id.get(group.smallest_case_id)
-            if case is None:
-                missing += 1
-                continue
-            row = _table_row(table, group.smallest_index)
-            remaining = budget.shrink_total - spent
-            sig = group.signature
-            if not shrink:
-                result = _unshrunk(case, sig, row, "not shrunk (--no-shrink)")
-            elif remaining <= 0.05:
-                result = _unshrunk(case, sig, row, "not shrunk: the run's shrink budget was spent on earlier groups")
-            elif sig.check == "timeout" and call_timeout > min(budget.shrink_per_group, remaining) / 2:
-                # Every failing call lasts the full timeout: ddmin would not get anywhere within the budget.
-                result = _unshrunk(case, sig, row, f"not shrunk: each call of a hang lasts the "
-                                   f"{call_timeout:g} s timeout, too long for the shrink budget")
-            else:
-                result = shrink_case(case, sig.config, sig, budget_seconds=min(budget.shrink_per_group, remaining),
-                                     timeout=timeout, qhull_options=qhull_options)
-                spent += result.seconds
-                if not result.reproduced:
-                    result = _unshrunk(case, sig, row, result.note)
-            if not result.reproduced:
-                not_shrunk += 1
-            # Re-running a hang to verify it would cost a full timeout per group.
-            records.append(triage_one(result, sig.config, group=group, timeout=timeout, verify=sig.check != "timeout",
-                                      qhull_options=qhull_options))
-        except KeyboardInterrupt:
-            # An interrupt (the pipeline's signal handler) ends triage; the groups done so far stay.
-            stopped = True
-            break
+        calls = run.used
+    records = _records(chosen, results, causes, verified, stopped=stopped)
+    by_group = {id(r.group): r for r in records}
+    cause_records = [Cause(key=key, records=tuple(by_group[id(chosen[i])] for i in members))
+                     for key, members in causes]
+    cause_records.sort(key=lambda c: -c.failures)  # stable: ties stay in group order
+    notes = _notes(groups, chosen, results, cause_records, budget, calls, shrink, halt, missing, max_records,
+                   records)
+    return TriageResult(groups=groups, records=records, causes=cause_records, notes=notes,
+                        seconds=time.perf_counter() - began, stopped=stopped, calls=calls,
+                        safety_net=halt is not None and not halt.interrupted)
+
+
+def _merge(chosen: list[FailureGroup], results: dict[int, ShrinkResult]) -> list[tuple[str, list[int]]]:
+    """Causes as (key, member group positions), in order of their first member."""
+    causes: dict[str, list[int]] = {}
+    for i, g in enumerate(chosen):
+        res = results[i]
+        key = canonical_key(np.asarray(res.case.points)) if res.reproduced else f"group:{g.slug}"
+        causes.setdefault(key, []).append(i)
+    return list(causes.items())
+
+
+def _verify(run: _Triage, chosen: list[FailureGroup], results: dict[int, ShrinkResult]) -> dict[int, bool]:
+    """Re-run the cases that were not shrunk (a shrink re-runs its own minimal case), in one batch.
+
+    Hangs are not re-run: each would cost a whole timeout.
+    """
+    todo = [i for i in range(len(chosen)) if not results[i].reproduced and chosen[i].signature.status != "timeout"]
+    run._check_halt()
+    rows = run.batch([(np.asarray(results[i].case.points), results[i].case.dim, chosen[i].signature.config,
+                       chosen[i].signature.status == "fail") for i in todo])
+    return {i: signature_of(row) == chosen[i].signature for i, row in zip(todo, rows)}
+
+
+def _records(chosen: list[FailureGroup], results: dict[int, ShrinkResult], causes: list[tuple[str, list[int]]],
+             verified: dict[int, bool | None], *, stopped: bool) -> list[TriageRecord]:
+    """One record per group; the output faces only for each cause's representative (its folder's picture)."""
+    representatives = {members[0] for _, members in causes}
+    # The folder stores the representative's points; a member's coincide with them up to exact
+    # transforms (same finiteness and shape), so it is stored the same way (in case.json).
+    storage = {}
+    for _, members in causes:
+        kind = storage_kind(results[members[0]].case.points)
+        storage.update({i: kind for i in members})
+    records = []
+    for i, g in enumerate(chosen):
+        res, sig = results[i], chosen[i].signature
+        if i in representatives and not sig.dangerous and not stopped:
+            faces, note = output_faces(res.case, sig.config, sig)
+        elif sig.dangerous:
+            faces, note = None, f"no output: the call ends in {sig.status}"
+        else:
+            faces, note = None, "" if i in representatives else "see the cause's representative"
+        records.append(TriageRecord(signature=sig, config=sig.config, group=g, shrink=res, faces=faces,
+                                    faces_note=note, storage=storage[i],
+                                    verified=verified.get(i)))
+    return records
+
+
+def _notes(groups: list[FailureGroup], chosen: list[FailureGroup], results: dict[int, ShrinkResult],
+           causes: list[Cause], budget: TriageBudget, calls: int, shrink: bool, halt: _Halt | None,
+           missing: int, max_records: int, records: list[TriageRecord]) -> list[str]:
     notes: list[str] = []
+    shrunk = sum(1 for r in results.values() if r.reproduced)
+    adopted = sum(1 for r in results.values() if r.adopted)
     if shrink:
-        notes.append(f"Shrinking: ddmin over points, then coordinate simplification; budget "
-                     f"{budget.shrink_total:g} s in total and {budget.shrink_per_group:g} s per group, "
-                     f"{spent:.1f} s used; {len(records) - not_shrunk} of {len(records)} groups shrunk.")
+        notes.append(
+            f"Triage: {len(groups)} failure groups, {len(causes)} causes (groups whose minimal cases coincide up "
+            f"to translation, power-of-two scaling, row and axis order are one cause). {shrunk} of {len(chosen)} "
+            f"groups minimised, {adopted} of them starting from another group's minimal case; "
+            f"{calls} of {budget.calls} evaluations used ({budget.group_calls} per group at most), so the "
+            "same seed gives the same causes and folders.")
     else:
         notes.append("Shrinking was turned off (--no-shrink): each group shows its smallest failing case.")
-    untriaged = len(groups) - len(records) - missing
+    cut = [r for r in results.values() if r.exhausted and r.reproduced]
+    if shrink and cut:
+        simplifying = sum(1 for r in cut if "while simplifying coordinates" in r.note)
+        notes.append(f"{len(cut)} groups ran out of evaluations before their last pass: {simplifying} while "
+                     f"simplifying coordinates (no single point of their case can go), {len(cut) - simplifying} "
+                     "earlier (their cases are smaller but may not be minimal).")
+    unshrunk = [r.note for r in results.values() if not r.reproduced and shrink]
+    if unshrunk:
+        reasons = pd.Series(unshrunk).value_counts()
+        notes.append(f"{len(unshrunk)} groups keep their smallest failing case unshrunk: "
+                     + "; ".join(f"{n} x {why}" for why, n in reasons.items()) + ".")
+    if halt is not None:
+        notes.append(f"Triage ended early: {halt.note}.")
+    untriaged = len(groups) - len(chosen) - missing
     if untriaged > 0:
-        why = ("triage was interrupted" if stopped
-               else f"the triage time budget ({budget.total:g} s) was spent" if out_of_time
-               else f"of the cap of {max_records} folders")
-        notes.append(f"{untriaged} more failure groups have no folder because {why}; "
-                     "they are listed in the tables here and in summary.md.")
+        notes.append(f"{untriaged} more failure groups have no record because of the cap of {max_records} "
+                     "groups; they are listed in groups.csv.")
     if missing:
         notes.append(f"{missing} groups had no case object to shrink (their cases were not passed in).")
     unverified = [r for r in records if r.verified is False]
     if unverified:
-        notes.append(f"{len(unverified)} groups did not fail again when re-run from the saved points file "
-                     "(flaky or state-dependent); their commands may exit 0.")
-    return TriageResult(groups=groups, records=records, notes=notes, seconds=time.perf_counter() - start,
-                        stopped=stopped)
+        notes.append(f"{len(unverified)} groups did not fail the same way when their minimal case was re-run "
+                     "(flaky or state-dependent); their reproduce commands may exit 0.")
+    return notes

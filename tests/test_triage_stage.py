@@ -1,0 +1,168 @@
+"""Tests for the triage stage: waves, lockstep shrinking on a worker pool, causes, determinism, budgets.
+
+Throw-away plug-in algorithms fail on a planted configuration of four points
+hidden in random clouds: one drops a hull vertex, one raises, one crashes its
+process, and one of them hangs on small inputs, so shrinking meets crashes
+and hangs on the way.
+"""
+
+from __future__ import annotations
+
+import textwrap
+
+import numpy as np
+import pytest
+
+from hullstress.case import Case
+from hullstress.config import AlgorithmConfig
+from hullstress.options import TriageBudget
+from hullstress.plugins import load_plugin
+from hullstress.results import to_frame
+from hullstress.triage import Signature, canonical_key, run_config, signature_of
+from hullstress.triage.stage import plan_chains, triage_failures
+
+PLANTED = np.array([[0.3, 0.1], [2.7, 0.45], [2.2, 3.3], [0.1, 2.9]])
+
+PLUGIN = textwrap.dedent(
+    '''
+    """Planted failures for tests/test_triage_stage.py."""
+    import ctypes
+    import time
+
+    import numpy as np
+    from scipy.spatial import ConvexHull
+
+    from hullstress import register_algorithm
+
+    PLANTED = np.array(%r)
+
+
+    def _planted(points):
+        return all(bool(np.all(points == row, axis=1).any()) for row in PLANTED)
+
+
+    def _hull(points):
+        return [int(i) for i in ConvexHull(points).vertices]
+
+
+    @register_algorithm("test-stage-drop", dim=2)
+    def drop(points, *, eps=None):
+        """Drops a vertex when the planted points are present (the same with either eps)."""
+        hull = _hull(points)
+        return hull[1:] if _planted(points) else hull
+
+
+    @register_algorithm("test-stage-raise", dim=2)
+    def raiser(points):
+        """Raises when the planted points are present; hangs on fewer than 5 points that lack them."""
+        if _planted(points):
+            raise KeyError("planted")
+        if len(points) < 5:
+            while True:
+                time.sleep(0.01)
+        return _hull(points)
+
+
+    @register_algorithm("test-stage-crash", dim=2)
+    def crash(points):
+        """Dereferences a null pointer when the planted points are present."""
+        if _planted(points):
+            ctypes.string_at(0)
+        return _hull(points)
+    '''
+    % (PLANTED.tolist(),)
+)
+
+CONFIGS = (AlgorithmConfig("test-stage-drop", "off", "scaled"), AlgorithmConfig("test-stage-drop", "off", "fixed"),
+           AlgorithmConfig("test-stage-raise"), AlgorithmConfig("test-stage-crash"))
+
+
+@pytest.fixture(scope="module")
+def sweep(tmp_path_factory):
+    path = tmp_path_factory.mktemp("stage-plugin") / "stage_plugins.py"
+    path.write_text(PLUGIN)
+    load_plugin(str(path))
+    rng = np.random.default_rng(11)
+    cases = []
+    for k, n in enumerate((16, 20, 24)):
+        pts = np.vstack([rng.uniform(-10, 10, size=(n - 4, 2)), PLANTED])[rng.permutation(n)]
+        cases.append(Case(points=pts, dim=2, family=f"test-planted-{k % 2}", seed=k, size=n))
+    rows = [run_config(c, config, timeout=2.0) for c in cases for config in CONFIGS]
+    return to_frame(rows), cases
+
+
+BUDGET = TriageBudget(calls=3000, group_calls=200, hang_calls=0, pictures=0, safety_seconds=900.0)
+
+
+def _triage(sweep, workers, budget=BUDGET):
+    table, cases = sweep
+    return triage_failures(table, cases, budget=budget, timeout=1.0, workers=workers)
+
+
+def _summary(result):
+    return [(c.key, [(r.signature, r.shrink.case.points.tobytes(), r.shrink.calls, r.shrink.steps, r.verified)
+                     for r in c.records]) for c in result.causes]
+
+
+def test_planted_failures_shrink_to_the_planted_points_and_twins_merge(sweep):
+    result = _triage(sweep, 2)
+    assert len(result.groups) == 4 and len(result.records) == 4
+    statuses = {r.signature.config.label: r.signature for r in result.records}
+    assert statuses["test-stage-crash[sphere=off,eps=n/a]"].error == "SIGSEGV"
+    assert statuses["test-stage-raise[sphere=off,eps=n/a]"].frame.endswith(" in raiser")
+    for rec in result.records:
+        rows = {tuple(p) for p in rec.case.points.tolist()}
+        assert rows == {tuple(p) for p in PLANTED.tolist()}, (rec.signature.label, rec.shrink.steps)
+        assert rec.shrink.reproduced and rec.verified is True
+    # Every group shrank to the same four points (up to exact transforms): one cause, listing every
+    # config, although each fails there in its own way.
+    assert len({canonical_key(r.case.points) for r in result.records}) == 1
+    assert len(result.causes) == 1 and len(result.causes[0].records) == 4
+    assert set(result.causes[0].configs) == {c.label for c in CONFIGS}
+    assert dict(result.causes[0].families) == {"test-planted-0": 8, "test-planted-1": 4}
+    # The second eps variant of the dropper started from the first's minimal case, and paid less.
+    drop = [r for r in result.records if r.signature.algorithm == "test-stage-drop"]
+    assert not drop[0].shrink.adopted and drop[1].shrink.adopted
+    assert drop[1].shrink.calls < drop[0].shrink.calls
+    assert result.stopped is False and result.safety_net is False
+
+
+def test_triage_does_not_depend_on_the_number_of_workers(sweep):
+    assert _summary(_triage(sweep, 1)) == _summary(_triage(sweep, 2))
+
+
+def test_a_spent_budget_leaves_groups_unshrunk_and_says_so(sweep):
+    result = _triage(sweep, 2, TriageBudget(calls=0, group_calls=10, hang_calls=0, pictures=0, safety_seconds=9.0))
+    assert all(not r.shrink.reproduced and "evaluation budget" in r.shrink.note for r in result.records)
+    assert len(result.causes) == 4  # groups that were not minimised never merge
+    tiny = _triage(sweep, 2, TriageBudget(calls=1000, group_calls=3, hang_calls=0, pictures=0, safety_seconds=900.0))
+    assert all(r.shrink.calls <= 3 for r in tiny.records)
+    assert any("ran out of evaluations" in n for n in tiny.notes)
+
+
+def test_an_interrupt_keeps_the_best_cases_so_far(sweep):
+    polls = []
+
+    def stop_after_a_few_rounds() -> bool:
+        polls.append(1)
+        return len(polls) > 3
+
+    table, cases = sweep
+    result = triage_failures(table, cases, budget=BUDGET, timeout=1.0, workers=2, should_stop=stop_after_a_few_rounds)
+    assert result.stopped and len(result.records) == 4
+    assert any("interrupted" in r.shrink.note for r in result.records)
+    for rec in result.records:
+        if rec.shrink.reproduced:  # whatever it kept still fails that way
+            assert signature_of(run_config(rec.case, rec.config, timeout=2.0)) == rec.signature
+
+
+def test_chains_hold_back_groups_of_a_kind_seen_before():
+    from types import SimpleNamespace
+
+    error = Signature("a", "off", "n/a", status="error", error="KeyError")
+    fail = Signature("b", "off", "n/a", checks="containment", severity="gross")
+    groups = [SimpleNamespace(dim=2, signature=error) for _ in range(7)] + [SimpleNamespace(dim=2, signature=fail)]
+    groups.append(SimpleNamespace(dim=3, signature=error))
+    chains = plan_chains(groups)
+    assert chains == [[[0], [1], [2, 3], [4, 5, 6]], [[7]], [[8]]]
+    assert sorted(i for chain in chains for wave in chain for i in wave) == list(range(len(groups)))
