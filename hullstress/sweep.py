@@ -163,7 +163,9 @@ def check_sizes(options: SweepOptions, dims: Sequence[int] = (2, 3)) -> None:
     ceiling, what = memory_ceiling_bytes(options.memory_limit_mb)
     if ceiling is None:
         return
-    wanted = [(n, d, f"--sizes {n}") for d in dims for n in _sizes_for(options, d)]
+    sizes = {d: options.sizes if options.sizes is not None else tuple(options.profile_spec.sizes[d]) for d in dims}
+    wanted = [(n, d, f"--sizes {n}" if options.sizes is not None else f"profile {options.profile}'s size {n}")
+              for d in dims for n in sizes[d]]
     for spec in options.generators:
         if is_rbox_spec(spec):
             n = rbox_count(parse_rbox_spec(spec))

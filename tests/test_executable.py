@@ -208,9 +208,11 @@ def test_planted_bugs_get_their_statuses(tmp_path, square_file):
         time.sleep(0.1)
     assert not alive(pid)
     # The reproduce commands re-register the program.
-    index = json.loads((_run_dir(res.stdout) / "failures" / "index.json").read_text())
-    commands = {entry["algorithm"]: entry["reproduce"] for entry in index["folders"]}
-    assert "--exec" in commands["planted-drop"] and "planted_hull.py drop" in commands["planted-drop"]
+    failures = _run_dir(res.stdout) / "failures"
+    index = json.loads((failures / "index.json").read_text())
+    slug = next(entry["slug"] for entry in index["folders"] if entry["algorithm"] == "planted-drop")
+    recorded = json.loads((failures / slug / "case.json").read_text())["registration"]
+    assert "--exec" in recorded and any("planted_hull.py drop" in arg for arg in recorded)
 
 
 def test_a_clockwise_program_gets_a_hint_and_passes_with_clockwise(tmp_path, square_file, capsys):

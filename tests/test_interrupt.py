@@ -94,6 +94,8 @@ def test_a_signal_in_any_phase_stops_the_run_within_2_s_with_its_partial_report(
             assert 1 <= len(table) < meta["calls_planned"]
             assert set(table["n_points"]) == {8}
         else:
-            assert len(table) == meta["calls_planned"] and set(table["status"]) == {"fail"}
+            # Every call finished; the chain without its last vertex fails wherever a hull has a corner
+            # (a degenerate family's correct lower-dimensional answer may pass).
+            assert len(table) == meta["calls_planned"] and "fail" in set(table["status"])
         if phase == "report":
             assert len(list((run_dir / "failures").iterdir())) >= 3  # the folders, some without pictures

@@ -55,9 +55,10 @@ PLUGIN = textwrap.dedent(
 
     @register_algorithm("test-shrink-nan-blind", dim=2)
     def nan_blind(points):
-        """Skips non-finite rows instead of rejecting the input."""
+        """Skips non-finite rows instead of rejecting the input, and then counts them as one past the end."""
         keep = np.flatnonzero(np.isfinite(points).all(axis=1))
-        return [int(keep[i]) for i in ConvexHull(points[keep]).vertices]
+        hull = [int(keep[i]) for i in ConvexHull(points[keep]).vertices]
+        return hull + [len(points)] if len(keep) < len(points) else hull
 
 
     @register_algorithm("test-shrink-left", dim=2)
@@ -206,7 +207,8 @@ def test_invalid_input_failures_reproduce_through_the_raw_npy_command(plugin, tm
     case = Case(points=pts, dim=2, family="test-nan", seed=0)
     config = AlgorithmConfig("test-shrink-nan-blind")
     result = shrink(case, config, timeout=30)
-    assert result.signature.check == "invalid-input"
+    # A hull for non-finite input is accepted unchecked (README); an index out of range is not.
+    assert result.signature.check == "contract"
     assert result.minimal_size == 4 and np.isnan(result.case.points).any()  # 3 finite points make a hull
     rec = write_failure_folder(tmp_path / "failures", triage_one(result, config), plugins=[str(plugin)], picture=True)
     assert not (rec.folder / "points.csv").exists()  # the reader refuses NaN: only the .npy is exact

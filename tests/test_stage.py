@@ -128,7 +128,7 @@ def test_counts_signatures_and_corpus_keep_the_stages_apart():
     assert counts["failure_rate"] == 0.0
     assert failure_counts(table)[["sphere", "failed", "method_failed"]].values.tolist() == [["on", 0, 1]]
     sig = signature_of(rows[1])
-    assert sig.stage == "preprocess" and "preprocess-containment" in sig.slug and "stage preprocess" in sig.label
+    assert sig.stage == "preprocess" and "__preprocess__" in sig.slug and "in preprocess" in sig.label
     assert row_signature(rows[1]) == "preprocess/fail:containment"
     assert is_failure_signature(row_signature(rows[1]))
     # A table from before the stage column reads as the algorithm's.

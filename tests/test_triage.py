@@ -346,7 +346,7 @@ def test_run_config_prefers_the_isolated_runner(monkeypatch):
 
     seen = []
 
-    def fake_run_one(case, config, *, timeout, facts=None, qhull=True):
+    def fake_run_one(case, config, *, timeout, facts=None, qhull=True, qhull_options=None):
         seen.append((case.n_points, config.label, timeout))
         return ResultRow({"algorithm": config.algorithm, "sphere": config.sphere, "eps": config.eps,
                           "generator": case.family, "status": "crash", "reason": "killed by signal 11 (SIGSEGV)",

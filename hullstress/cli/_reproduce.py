@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import UsageError
+from ._common import seconds
 
 __all__ = ["add_parser", "reproduce_command", "witness_lines"]
 
@@ -36,7 +37,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
     p.add_argument("folder", metavar="FOLDER", help="a failure folder (it holds case.json)")
     p.add_argument("--all", action="store_true",
                    help="also re-run every other config of the cause, each on its own minimal case")
-    p.add_argument("--timeout", type=float, default=None, metavar="SECONDS",
+    p.add_argument("--timeout", type=seconds(), default=None, metavar="SECONDS",
                    help="per-call timeout (default: the run's, as recorded in case.json)")
     p.add_argument("--plugin", action="append", default=[], metavar="MODULE_OR_FILE",
                    help="import a plug-in first, besides those case.json names (repeatable)")
@@ -174,8 +175,6 @@ def reproduce_command(args: argparse.Namespace) -> int:
 
     folder = Path(args.folder)
     meta = _load_case_json(folder)
-    if args.timeout is not None and not args.timeout > 0:
-        raise UsageError(f"--timeout must be positive, got {args.timeout!r}")
     for spec in list(meta.get("plugins") or []) + list(args.plugin):
         load_plugin(spec)
     _register_recorded(list(meta.get("registration") or []))

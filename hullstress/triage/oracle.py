@@ -52,6 +52,7 @@ def run_config(
     isolate: bool | None = None,
     dangerous: bool = False,
     qhull: bool = True,
+    qhull_options: str | None = None,
 ) -> ResultRow:
     """Run and judge ``config`` on ``case`` once.
 
@@ -69,6 +70,8 @@ def run_config(
         is never run in-process.
     qhull : bool
         Compute the Qhull reference (the ``qhull_agreement`` check needs it).
+    qhull_options : str, optional
+        Qhull options tried first for the reference (the run's ``--qhull-options``).
 
     Returns
     -------
@@ -76,7 +79,8 @@ def run_config(
     """
     run_one = isolated_runner() if isolate is not False else None
     if run_one is not None:
-        return run_one(case, config, timeout=timeout if timeout is not None else DEFAULT_TIMEOUT, qhull=qhull)
+        return run_one(case, config, timeout=timeout if timeout is not None else DEFAULT_TIMEOUT, qhull=qhull,
+                       qhull_options=qhull_options)
     if isolate or dangerous:
         raise IsolationUnavailable(
             f"reproducing {config.label} safely needs hullstress.runner.run_one "
@@ -84,7 +88,7 @@ def run_config(
         )
     from ..evaluate import evaluate
 
-    return evaluate(case, config, qhull=qhull)
+    return evaluate(case, config, qhull=qhull, qhull_options=qhull_options)
 
 
 def fails_same_way(
@@ -94,6 +98,7 @@ def fails_same_way(
     *,
     timeout: float | None = None,
     isolate: bool | None = None,
+    qhull_options: str | None = None,
 ) -> bool:
     """True when running ``config`` on ``case`` fails with exactly ``signature``.
 
@@ -107,7 +112,7 @@ def fails_same_way(
     case : Case
     config : AlgorithmConfig
     signature : Signature
-    timeout, isolate
+    timeout, isolate, qhull_options
         As in :func:`run_config`.
 
     Examples
@@ -119,7 +124,8 @@ def fails_same_way(
     >>> fails_same_way(Case.from_points([[0, 0], [1, 0], [0, 1]]), config, sig)  # doctest: +SKIP
     False
     """
-    row = run_config(case, config, timeout=timeout, isolate=isolate, dangerous=signature.dangerous)
+    row = run_config(case, config, timeout=timeout, isolate=isolate, dangerous=signature.dangerous,
+                     qhull_options=qhull_options)
     return same_failure(row, signature)
 
 

@@ -34,7 +34,7 @@ from dataclasses import asdict, dataclass
 from typing import Any
 
 from ..config import AlgorithmConfig
-from ..records import CONTRACT_REASON
+from ..records import CONTRACT_REASON, METHOD_REASON
 from ..verdict import CHECKS
 
 __all__ = ["Signature", "failed_check", "failed_checks_of", "signature_of", "stage_of", "FAILED_STATUSES",
@@ -46,7 +46,7 @@ FAILED_STATUSES = ("fail", "error", "timeout", "crash")
 DEFAULT_STAGE = "algorithm"
 
 #: Every value the "failed check" part of a signature can take (``shrink --check`` accepts these).
-FAILED_CHECKS = ("contract",) + tuple(CHECKS) + ("invalid-input", "error", "timeout", "crash")
+FAILED_CHECKS = ("contract",) + tuple(CHECKS) + ("collapsed", "invalid-input", "error", "timeout", "crash")
 
 _CONTRACT_PREFIX = CONTRACT_REASON
 _INTERNAL_PREFIX = "internal:"
@@ -100,6 +100,8 @@ def failed_checks_of(status: str, reason: Any = "", failed_checks: Any = "") -> 
     if checks:
         # Report order, whatever order the cell lists them in; unknown names (a newer checker) after.
         return ",".join([c for c in CHECKS if c in checks] + sorted(c for c in set(checks) if c not in CHECKS))
+    if _text(reason).startswith(METHOD_REASON):
+        return "collapsed"  # the sphere method left too little of the input to map back (stage preprocess)
     return "invalid-input"
 
 
