@@ -5,7 +5,7 @@ strings: ``"preprocess"``, ``"in-house"``), and because they subclass
 ``str`` they compare equal to those strings, so code reading an old table or
 a plain dict needs no conversion.
 
-Only :class:`Stage` and :class:`Origin` live here so far; ``Status``,
+Only :class:`Stage`, :class:`Origin` and :class:`SphereStructure` live here so far; ``Status``,
 ``Severity``, ``Sphere`` and ``EpsPolicy`` are meant to move here too (see
 DESIGN.md, "Layout").
 """
@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from enum import Enum
 
-__all__ = ["Stage", "Origin", "CONTRACT_REASON", "METHOD_REASON"]
+__all__ = ["Stage", "Origin", "SphereStructure", "CONTRACT_REASON", "METHOD_REASON"]
 
 #: How the reason of a row that broke the output contract begins.
 CONTRACT_REASON = "output contract:"
@@ -68,3 +68,27 @@ class Origin(str, Enum):
     ADAPTER = "adapter"
     PLUGIN = "plugin"
     EXECUTABLE = "executable"
+
+
+class SphereStructure(str, Enum):
+    """Whether the exact hull of a sphere projection, mapped back, is the input's hull.
+
+    The column ``sphere_structure`` (:mod:`hullstress.sphere_causes`); empty
+    when no projection was made.
+
+    Attributes
+    ----------
+    SAME
+        The certified hull of the projected points, mapped back, is the input's hull.
+    CHANGED
+        It is not (a vertex was lost, or the faces differ).
+    UNKNOWN
+        The projected points have no certified hull to map back.
+    ERROR
+        The checker raised on the mapped-back hull (a bug of hullstress).
+    """
+
+    SAME = "same"
+    CHANGED = "changed"
+    UNKNOWN = "unknown"
+    ERROR = "error"
