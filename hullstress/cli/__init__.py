@@ -25,7 +25,7 @@ EXIT_INTERRUPTED = 130
 
 #: Subcommand modules, in --help order.  Each defines ``add_parser(subparsers)``
 #: which registers the subcommand and sets ``handler(args) -> int`` as its default.
-SUBCOMMANDS = ("run", "replay", "list", "check", "shrink", "fuzz", "export")
+SUBCOMMANDS = ("run", "replay", "list", "check", "shrink", "fuzz", "export", "findings")
 
 
 class _Parser(argparse.ArgumentParser):

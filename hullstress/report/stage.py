@@ -4,7 +4,9 @@
 the triage stage's records (:class:`hullstress.triage.records.TriageResult`)
 and writes the run folder: ``results.csv`` / ``.parquet``, ``summary.md``,
 ``run.json``, ``failures/<signature>/`` with pictures, ``failures/index.json``,
-``findings.csv``, ``report.html``, the baseline comparison and JUnit XML.
+``findings.md`` and ``findings.csv`` (:mod:`hullstress.report.findings`, the same
+files ``python -m hullstress findings`` writes), ``report.html``, the baseline
+comparison and JUnit XML.
 Pictures are bounded by the profile's picture budget; groups past it get a
 folder without one, and the report says how many.
 """
@@ -24,7 +26,7 @@ from ..files import atomic_write_text
 from ..triage.grouping import FailureGroup, groups_frame
 from ..triage.records import TriageResult
 from .failures import FailureRecord, draw_picture, write_failure_folder
-from .findings import findings_markdown, findings_reading, findings_table
+from .findings import Findings, compute_findings, findings_markdown, run_source, write_findings
 from .html import render_html
 from .junit import write_junit
 from .writer import _markdown, write_report
@@ -42,17 +44,19 @@ class ReportFiles:
         One per failure folder, worst group first.
     notes : list of str
         Triage's and the report's notes (budgets, groups without folders or pictures).
-    findings : DataFrame
-    html, summary, findings_csv, index : Path
+    findings : Findings
+        The claims checked against the run (:func:`hullstress.report.findings.compute_findings`).
+    html, summary, findings_md, findings_csv, index : Path
     junit : Path or None
     seconds : float
     """
 
     records: list[FailureRecord]
     notes: list[str]
-    findings: pd.DataFrame
+    findings: Findings
     html: Path
     summary: Path
+    findings_md: Path
     findings_csv: Path
     index: Path
     junit: Path | None
@@ -140,19 +144,17 @@ def write_run_report(
         notes.append(f"{no_picture} groups have no picture: the picture budget ({picture_budget:g} s) was spent"
                      " or the run was interrupted.")
 
-    findings = findings_table(table)
-    reading = findings_reading(findings)
-    findings_csv = run_dir / "findings.csv"
-    atomic_write_text(findings_csv, findings.to_csv(index=False))
+    findings = compute_findings(table, source=run_source(meta))
+    findings_md, findings_csv = write_findings(run_dir, findings)
     index = _write_index(run_dir, records, groups)
-    summary = _append_summary(run_dir, groups, records, findings, reading, notes)
+    summary = _append_summary(run_dir, groups, records, findings, notes)
     if comparison is not None:
         _write_baseline_section(run_dir, comparison, baseline_label or "")
     html_path = run_dir / "report.html"
     atomic_write_text(html_path, render_html(table, meta, records, findings, notes=notes, groups=groups))
     junit = write_junit(junit_path, table, records) if junit_path is not None else None
     return ReportFiles(records=records, notes=notes, findings=findings, html=html_path, summary=summary,
-                       findings_csv=findings_csv, index=index, junit=junit, seconds=time.perf_counter() - start)
+                       findings_md=findings_md, findings_csv=findings_csv, index=index, junit=junit, seconds=time.perf_counter() - start)
 
 
 def _origin(algorithm: str) -> str:
@@ -177,7 +179,7 @@ def _write_index(run_dir: Path, records: Sequence[FailureRecord], groups: Sequen
 
 
 def _append_summary(run_dir: Path, groups: Sequence[FailureGroup], records: Sequence[FailureRecord],
-                    findings: pd.DataFrame, reading: list[str], notes: list[str]) -> Path:
+                    findings: Findings, notes: list[str]) -> Path:
     path = run_dir / "summary.md"
     text = path.read_text(encoding="utf-8") if path.exists() else "# hullstress run\n"
     sizes = {r.signature.slug: r for r in records}
@@ -193,7 +195,7 @@ def _append_summary(run_dir: Path, groups: Sequence[FailureGroup], records: Sequ
         parts += ["", "### Reproduce", ""]
         for r in records:
             parts.append(f"- `{r.signature.slug}` ({r.original_size} -> {r.minimal_size} points): `{r.command}`")
-    parts += ["", "## Findings: the seeds' claims against this run", "", findings_markdown(findings, reading)]
+    parts += ["", findings_markdown(findings, level=2)]
     atomic_write_text(path, "\n".join(parts).rstrip("\n") + "\n")
     return path
 

@@ -24,6 +24,7 @@ import pandas as pd
 from ..errors import UsageError
 from ..files import atomic_write_text, atomic_write_with
 from ..results import ROW_COLUMNS, ResultRow
+from .claim import markdown_table as _markdown
 from .tables import failure_counts, status_counts
 
 __all__ = ["new_run_dir", "RowStream", "write_report", "package_versions"]
@@ -89,17 +90,6 @@ def package_versions() -> dict[str, str]:
         except PackageNotFoundError:
             continue
     return out
-
-
-def _markdown(df: pd.DataFrame) -> str:
-    """A pipe table without the optional ``tabulate`` dependency."""
-    if df.empty:
-        return "_(none)_\n"
-    cols = [str(c) for c in df.columns]
-    lines = ["| " + " | ".join(cols) + " |", "|" + "|".join("---" for _ in cols) + "|"]
-    for rec in df.itertuples(index=False):
-        lines.append("| " + " | ".join("" if pd.isna(v) else str(v) for v in rec) + " |")
-    return "\n".join(lines) + "\n"
 
 
 def summary_markdown(df: pd.DataFrame, meta: Mapping[str, Any]) -> str:
