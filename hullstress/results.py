@@ -25,6 +25,7 @@ __all__ = [
     "to_frame",
     "read_frame",
     "REQUIRED_COLUMNS",
+    "RESULTS_FILES",
 ]
 
 #: Every call ends in exactly one of these (DESIGN.md, "The runner").
@@ -186,6 +187,9 @@ def _typed(df: pd.DataFrame) -> pd.DataFrame:
 #: Text columns whose empty value means "none", not "missing".
 _TEXT_COLUMNS = ("params", "transform", "source", "sphere_method", "sphere_structure", "sphere_kept_structure",
                  "reason", "invalid_input", "failed_checks", "severity", "qhull_options", "offending", "stage")
+
+#: The results tables a run folder holds, in the order a reader prefers them (Parquet keeps every bit).
+RESULTS_FILES = ("results.parquet", "results.csv")
 
 #: Columns without which a file is not a results table.
 REQUIRED_COLUMNS = ("algorithm", "sphere", "eps", "generator", "status")

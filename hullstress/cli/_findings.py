@@ -11,10 +11,6 @@ from ..errors import UsageError
 
 __all__ = ["add_parser", "findings_command", "find_results_table"]
 
-#: Results tables a run folder holds, in the order they are preferred (Parquet keeps every bit of a float).
-TABLE_NAMES = ("results.parquet", "results.csv")
-
-
 def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     p = sub.add_parser(
         "findings",
@@ -34,21 +30,23 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
 
 
 def find_results_table(spec: str) -> Path:
-    """The results table named by RUN: the file itself, or the first of :data:`TABLE_NAMES` in the folder.
+    """The results table named by RUN: the file itself, or the first of ``RESULTS_FILES`` in the folder.
 
     Raises
     ------
     UsageError
         When RUN does not exist, or is a folder without a results table.
     """
+    from ..results import RESULTS_FILES
+
     path = Path(spec)
     if not path.exists():
         raise UsageError(f"RUN {spec!r}: no such file or directory")
     if path.is_dir():
-        for name in TABLE_NAMES:
+        for name in RESULTS_FILES:
             if (path / name).is_file():
                 return path / name
-        raise UsageError(f"RUN {spec!r}: no results table in this folder (expected {' or '.join(TABLE_NAMES)})")
+        raise UsageError(f"RUN {spec!r}: no results table in this folder (expected {' or '.join(RESULTS_FILES)})")
     return path
 
 

@@ -16,7 +16,7 @@ import pandas as pd
 
 from ..config import AlgorithmConfig
 from ..errors import CorpusError, UsageError
-from ..results import read_frame
+from ..results import RESULTS_FILES, read_frame
 from .store import is_failure_signature, iter_corpus, row_signature
 
 __all__ = ["GROUP_KEYS", "failure_groups", "load_baseline", "compare_with_baseline"]
@@ -61,7 +61,7 @@ def load_baseline(path: str | os.PathLike[str]) -> pd.DataFrame:
     if not p.exists():
         raise UsageError(f"--baseline {str(path)!r}: no such file or directory")
     if p.is_dir():
-        for name in ("results.parquet", "results.csv"):
+        for name in RESULTS_FILES:
             if (p / name).exists():
                 return load_baseline(p / name)
         if any(p.glob("*.json")):
