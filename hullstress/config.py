@@ -32,6 +32,7 @@ __all__ = [
     "SPHERE_CHOICES",
     "EPS_CHOICES",
     "NO_EPS",
+    "sphere_duplicate_policy",
 ]
 
 SPHERE_CHOICES = ("off", "on", "both")
@@ -39,6 +40,17 @@ EPS_CHOICES = ("scaled", "fixed", "both")
 #: The eps column's value when no ``eps`` is passed: the algorithm takes none,
 #: or keeps its own tolerance (a library's default).
 NO_EPS = "n/a"
+
+
+def sphere_duplicate_policy(eps: str) -> str:
+    """The eps policy of the sphere method's duplicate tolerance for a config's ``eps``: its own, else scaled.
+
+    Examples
+    --------
+    >>> sphere_duplicate_policy("fixed"), sphere_duplicate_policy(NO_EPS)
+    ('fixed', 'scaled')
+    """
+    return "scaled" if eps == NO_EPS else eps
 
 
 @dataclass(frozen=True)

@@ -39,7 +39,7 @@ from typing import Any
 import numpy as np
 
 from .case import Case, points_digest
-from .config import NO_EPS, AlgorithmConfig
+from .config import NO_EPS, AlgorithmConfig, sphere_duplicate_policy
 from .contract import FaceSet, canonical_output, normalize_output, require_face_size, reverse_orientation
 from .errors import CodeCrashed, ContractViolation, code_frame, one_line
 from .records import CONTRACT_REASON, METHOD_REASON, Stage
@@ -199,7 +199,7 @@ def _preprocess(case: Case, config: AlgorithmConfig) -> tuple[np.ndarray, np.nda
     if config.sphere == "on":
         from .sphere import sphere_project  # scipy: imported when first needed
 
-        policy = config.eps if config.eps != NO_EPS else "scaled"
+        policy = sphere_duplicate_policy(config.eps)
         duplicate_eps = tolerance(points, policy)
         if finite and not np.isfinite(duplicate_eps):
             raise PreprocessError(f"eps set-up: the {policy} tolerance is {duplicate_eps!r} for finite input")
@@ -348,6 +348,15 @@ def judge(case: Case, config: AlgorithmConfig, outcome: CallOutcome, facts: Case
     start = time.perf_counter()
     given = _given_facts(outcome.given, case.dim, facts.reference is not None) if outcome.given is not None else facts
     problem = _method_problem(case, facts, given) if sphere else ""
+    if sphere and outcome.index_map is not None:
+        # Why the method would lose the hull, whatever the algorithm does (sphere_causes.py).
+        from .sphere_causes import sphere_causes
+
+        common["sphere_causes"] = sphere_causes(
+            case.points, facts.reference, given.reference, outcome.index_map,
+            lambda faces: _verdict(case.points, faces, facts),
+            duplicate_eps=tolerance(case.points, sphere_duplicate_policy(config.eps)),
+            cache_key=(case.case_id, points_digest(outcome.given)))
 
     def row(status: str, reason: str = "", verdict: Verdict | None = None, **kw: Any) -> ResultRow:
         return make_row(case, config, status=status, reason=reason, verdict=verdict,

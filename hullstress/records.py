@@ -5,16 +5,19 @@ strings: ``"preprocess"``, ``"in-house"``), and because they subclass
 ``str`` they compare equal to those strings, so code reading an old table or
 a plain dict needs no conversion.
 
-Only :class:`Stage` and :class:`Origin` live here so far; ``Status``,
-``Severity``, ``Sphere`` and ``EpsPolicy`` are meant to move here too (see
-DESIGN.md, "Layout").
+Every word a row's ``status``, ``stage``, ``severity``, ``sphere``, ``eps``
+and ``origin`` columns can hold is a member here; code elsewhere names the
+member, never the string (``tests/test_vocabulary.py`` enforces it).
+``str()`` and ``format()`` of a member give its value, so f-strings and CSV
+files read ``fail``, not ``Status.FAIL``.
 """
 
 from __future__ import annotations
 
 from enum import Enum
 
-__all__ = ["Stage", "Origin", "CONTRACT_REASON", "METHOD_REASON"]
+__all__ = ["Status", "FAILED_STATUSES", "Severity", "Sphere", "EpsPolicy", "NO_EPS", "Stage", "Origin",
+           "SphereStructure", "CONTRACT_REASON", "METHOD_REASON"]
 
 #: How the reason of a row that broke the output contract begins.
 CONTRACT_REASON = "output contract:"
@@ -22,7 +25,89 @@ CONTRACT_REASON = "output contract:"
 METHOD_REASON = "sphere method:"
 
 
-class Stage(str, Enum):
+class _Word(str, Enum):
+    """A member that prints as its value (``f"{Status.FAIL}"`` is ``fail`` on every Python)."""
+
+    def __str__(self) -> str:
+        return str(self.value)
+
+    def __format__(self, spec: str) -> str:
+        return format(str(self.value), spec)
+
+
+class Status(_Word):
+    """How one call ended; every row has exactly one (DESIGN.md, "The runner").
+
+    Attributes
+    ----------
+    PASS
+        A hull that passed every check (or a correct answer for degenerate or invalid input).
+    FAIL
+        A hull that failed a check, or output that broke the contract.
+    REJECTED
+        The algorithm declined input it may decline (degenerate or invalid): fine.
+    ERROR
+        The algorithm (or a harness stage, see :class:`Stage`) raised.
+    TIMEOUT
+        The call exceeded its time limit and was killed.
+    CRASH
+        The process running the call died (a signal, a memory limit).
+
+    Examples
+    --------
+    >>> Status("fail") is Status.FAIL, f"{Status.CRASH}", Status.ERROR in FAILED_STATUSES
+    (True, 'crash', True)
+    """
+
+    PASS = "pass"
+    FAIL = "fail"
+    REJECTED = "rejected"
+    ERROR = "error"
+    TIMEOUT = "timeout"
+    CRASH = "crash"
+
+
+#: The statuses that count as failures (everything but pass and rejected).
+FAILED_STATUSES = frozenset({Status.FAIL, Status.ERROR, Status.TIMEOUT, Status.CRASH})
+
+
+class Severity(_Word):
+    """How far a failed hull is from a correct one (:mod:`hullstress.checker.severity`).
+
+    Attributes
+    ----------
+    NONE
+        Nothing failed.
+    ROUNDOFF
+        Every violation within a small multiple of Qhull's DISTround.
+    GROSS
+        A larger violation, or a topological defect.
+    """
+
+    NONE = "none"
+    ROUNDOFF = "roundoff"
+    GROSS = "gross"
+
+
+class Sphere(_Word):
+    """Whether a config runs the algorithm on the sphere projection of its input."""
+
+    OFF = "off"
+    ON = "on"
+
+
+class EpsPolicy(_Word):
+    """How an algorithm's comparison tolerance is derived from its input (:mod:`hullstress.tolerance`)."""
+
+    SCALED = "scaled"
+    FIXED = "fixed"
+
+
+#: The ``eps`` column's value for algorithms that take no eps.
+NO_EPS = "n/a"
+
+
+class Stage(_Word):
     """The part of one call that produced a row's verdict.
 
     Attributes
@@ -49,7 +134,7 @@ class Stage(str, Enum):
     CHECK = "check"
 
 
-class Origin(str, Enum):
+class Origin(_Word):
     """Where a registered algorithm comes from; decides its default variants.
 
     Attributes
@@ -68,3 +153,27 @@ class Origin(str, Enum):
     ADAPTER = "adapter"
     PLUGIN = "plugin"
     EXECUTABLE = "executable"
+
+
+class SphereStructure(_Word):
+    """Whether the exact hull of a sphere projection, mapped back, is the input's hull.
+
+    The column ``sphere_structure`` (:mod:`hullstress.sphere_causes`); empty
+    when no projection was made.
+
+    Attributes
+    ----------
+    SAME
+        The certified hull of the projected points, mapped back, is the input's hull.
+    CHANGED
+        It is not (a vertex was lost, or the faces differ).
+    UNKNOWN
+        The projected points have no certified hull to map back.
+    ERROR
+        The checker raised on the mapped-back hull (a bug of hullstress).
+    """
+
+    SAME = "same"
+    CHANGED = "changed"
+    UNKNOWN = "unknown"
+    ERROR = "error"

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import os
 from collections.abc import Iterable, Mapping
+from pathlib import Path
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -11,6 +13,7 @@ import pandas as pd
 from .case import Case
 from .config import AlgorithmConfig
 from .records import Stage
+from .sphere_causes import SPHERE_CAUSE_COLUMNS, SphereCauses, empty_sphere_causes
 from .verdict import VERDICT_COLUMNS, Verdict, empty_verdict_row
 
 __all__ = [
@@ -20,6 +23,9 @@ __all__ = [
     "TIMING_COLUMNS",
     "make_row",
     "to_frame",
+    "read_frame",
+    "REQUIRED_COLUMNS",
+    "RESULTS_FILES",
 ]
 
 #: Every call ends in exactly one of these (DESIGN.md, "The runner").
@@ -27,8 +33,8 @@ STATUSES = ("pass", "fail", "rejected", "error", "timeout", "crash")
 
 _PROVENANCE = ("case_id", "generator", "params", "transform", "dim", "n_points", "size", "seed", "source")
 _CONFIG = ("algorithm", "origin", "sphere", "eps", "config")
-_OUTCOME = ("status", "stage", "sphere_method", "reason", "error_frame", "seconds", "check_seconds", "eps_value",
-            "degenerate", "invalid_input", "call_output")
+_OUTCOME = ("status", "stage", "sphere_method", *SPHERE_CAUSE_COLUMNS, "reason", "error_frame", "seconds",
+            "check_seconds", "eps_value", "degenerate", "invalid_input", "call_output")
 
 #: Column order of every results table.
 ROW_COLUMNS = _PROVENANCE + _CONFIG + _OUTCOME + VERDICT_COLUMNS
@@ -75,6 +81,7 @@ def make_row(
     status: str,
     stage: Stage | str = Stage.ALGORITHM,
     sphere_method: str = "",
+    sphere_causes: SphereCauses | None = None,
     reason: str = "",
     seconds: float = 0.0,
     check_seconds: float = 0.0,
@@ -102,6 +109,9 @@ def make_row(
         maps back to the input's hull), ``fail``, ``rejected`` or ``error``
         (preprocessing declined or broke); empty when sphere is off or the
         method could not be judged (the algorithm failed first).
+    sphere_causes : SphereCauses, optional
+        With sphere on, the method's vertex loss and face-structure change on
+        this case (:mod:`hullstress.sphere_causes`); missing values without one.
     reason : str
         One line: the exception, the contract violation, the failed checks, the signal.
     verdict : Verdict, optional
@@ -139,6 +149,7 @@ def make_row(
         "status": status,
         "stage": stage.value,
         "sphere_method": sphere_method,
+        **(sphere_causes.columns() if sphere_causes is not None else empty_sphere_causes()),
         "reason": " ".join(str(reason).split())[:500],
         "error_frame": error_frame,
         "seconds": float(seconds),
@@ -159,18 +170,72 @@ def to_frame(rows: Iterable[ResultRow]) -> pd.DataFrame:
     no hull was checked), counts use nullable ``Int64``.
     """
     records = [r.values for r in rows]
-    df = pd.DataFrame.from_records(records, columns=list(ROW_COLUMNS))
+    return _typed(pd.DataFrame.from_records(records, columns=list(ROW_COLUMNS)))
+
+
+def _typed(df: pd.DataFrame) -> pd.DataFrame:
+    """``df`` with every column of :data:`ROW_COLUMNS` present and of its table dtype."""
+    for col in ROW_COLUMNS:
+        if col not in df.columns:  # a table written before the column existed
+            df[col] = pd.NA
     for col in ("convexity", "containment", "manifoldness", "qhull_ok", "degenerate"):
         df[col] = df[col].astype("boolean")
     for col in (
         "dim", "n_points", "size", "seed", "n_faces", "n_hull_vertices", "n_extreme",
         "n_missing_extreme", "n_boundary_nonextreme", "n_outside", "n_nonconvex_edges",
-        "n_degenerate_faces", "affine_rank",
+        "n_degenerate_faces", "affine_rank", "sphere_extreme", "sphere_lost_extreme",
     ):
         df[col] = pd.to_numeric(df[col], errors="coerce").astype("Int64")
     for col in ("seconds", "check_seconds", "eps_value", "max_violation", "distround", "volume", "qhull_volume"):
         df[col] = pd.to_numeric(df[col], errors="coerce").astype("float64")
     for col in ("qhull_agreement", "failed_checks", "severity", "qhull_options", "offending", "reason", "error_frame",
-                "invalid_input", "transform", "stage", "sphere_method", "call_output"):
+                "invalid_input", "transform", "stage", "sphere_method", "sphere_structure", "sphere_kept_structure", "call_output"):
         df[col] = df[col].astype("string")
     return df
+
+
+#: Text columns whose empty value means "none", not "missing".
+_TEXT_COLUMNS = ("params", "transform", "source", "sphere_method", "sphere_structure", "sphere_kept_structure",
+                 "reason", "invalid_input", "failed_checks", "severity", "qhull_options", "offending", "stage",
+                 "error_frame", "call_output")
+
+#: The results tables a run folder holds, in the order a reader prefers them (Parquet keeps every bit).
+RESULTS_FILES = ("results.parquet", "results.csv")
+
+#: Columns without which a file is not a results table.
+REQUIRED_COLUMNS = ("algorithm", "sphere", "eps", "generator", "status")
+
+
+def read_frame(path: str | os.PathLike[str], *, required: Iterable[str] = REQUIRED_COLUMNS) -> pd.DataFrame:
+    """Read a results table written by a run (``results.csv`` or ``results.parquet``), with its dtypes.
+
+    Columns added since the table was written are filled with missing values;
+    text columns that were empty in the CSV are empty strings again.
+
+    Parameters
+    ----------
+    path : path
+        ``.parquet`` is read as Parquet, anything else as CSV.
+    required : iterable of str
+        Columns the file must have (default :data:`REQUIRED_COLUMNS`).
+
+    Raises
+    ------
+    OSError, ValueError, ImportError
+        When the file cannot be read or is not a results table (the message
+        names what is missing); callers turn these into one-line errors.
+    """
+    p = Path(path)
+    if p.suffix == ".parquet":
+        df = pd.read_parquet(p)
+    else:
+        # "n/a" is the eps column's value for algorithms without eps, not a missing value.
+        df = pd.read_csv(p, dtype={c: "string" for c in _TEXT_COLUMNS}, keep_default_na=False, na_values=[""])
+    missing = sorted(set(required) - set(df.columns))
+    if missing:
+        raise ValueError(f"not a hullstress results table (missing columns {missing})")
+    df = _typed(df)
+    for col in _TEXT_COLUMNS:
+        df[col] = df[col].fillna("")
+    return df
+

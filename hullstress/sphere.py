@@ -16,10 +16,10 @@ Alg. 1      seed text                                     here
 ==========  ============================================  =====================
 line 1      "Remove duplicate points (i.e., within        :func:`remove_duplicates`
             pre-defined distance tolerance)"
-line 2      "Calculate Centroid" (Equation 1)             :func:`surface_points`
+line 2      "Calculate Centroid" (Equation 1)             :func:`sphere_centroid`
 lines 4-6   "Normal = Centroid to Points(i)",             :func:`support_indices`
             "FindSupportPoint(Normal, Points)"
-line 7      "Project surfacepoint onto sphere surface"    :func:`sphere_project`
+line 7      "Project surfacepoint onto sphere surface"    :func:`project_onto_sphere`
 line 8      "Add supportpoint to spherepoints"            :func:`surface_points`
 ==========  ============================================  =====================
 
@@ -51,11 +51,13 @@ Readings taken where the seed is silent (each kept on purpose):
 Known weakness of the method, kept: the support mapping only probes the
 directions ``centroid -> p_i``.  A hull vertex that is not the farthest point
 in any of those directions is culled, so the hull built from the surface list
-can miss true vertices and leave input points outside it.  On uniform random
-clouds (ball, cube, Gaussian; n = 10..2000) it drops roughly 10-40% of the
-hull's vertices in almost every sample.  It keeps them all when each point is
-the farthest along its own direction, e.g. centrally symmetric points on a
-sphere.
+can miss true vertices and leave input points outside it (on the README's
+run of uniform clouds, n = 16..256: 10% of the vertices in 2D, 23% in 3D).
+It keeps them all when each point is the farthest along its own direction,
+e.g. centrally symmetric points on a sphere.  In 3D that is not enough:
+projecting even every true vertex radially onto a sphere changes which of
+them span faces.  A sweep records both causes per row
+(:mod:`hullstress.sphere_causes`).
 """
 
 from __future__ import annotations
@@ -75,6 +77,8 @@ __all__ = [
     "support_indices",
     "surface_points",
     "sphere_project",
+    "sphere_centroid",
+    "project_onto_sphere",
     "map_back",
 ]
 
@@ -241,6 +245,66 @@ class SurfacePoints:
     eps: float
 
 
+def _kept_and_centroid(pts: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray]:
+    """Algorithm 1, lines 1-2: the rows kept by duplicate removal and their centroid (NaN if none)."""
+    kept = remove_duplicates(pts, tol)
+    if len(kept) == 0:
+        return kept, np.full(pts.shape[1], np.nan)
+    with np.errstate(over="ignore", invalid="ignore"):  # huge input: inf/nan, as floats give
+        return kept, pts[kept].mean(axis=0)
+
+
+def sphere_centroid(points: Any, /, *, eps: float | None = None) -> np.ndarray:
+    """The centroid the sphere method projects around (Algorithm 1, lines 1-2).
+
+    The mean of the points left after duplicate removal within ``eps``
+    (``None``: ``tolerance(points, "scaled")``); NaN for empty input.
+
+    Examples
+    --------
+    >>> sphere_centroid(np.array([[0.0, 0.0], [2.0, 0.0], [2.0, 0.0], [1.0, 3.0]])).tolist()
+    [1.0, 1.0]
+    """
+    pts = _as_points(points)
+    return _kept_and_centroid(pts, _resolve_eps(pts, eps))[1]
+
+
+def project_onto_sphere(points: Any, rows: Any, centroid: np.ndarray) -> np.ndarray:
+    """Algorithm 1, line 7: ``centroid + (p - centroid) / |p - centroid|`` for each of ``points[rows]``.
+
+    Parameters
+    ----------
+    points : array_like of shape (n, d)
+    rows : array_like of int
+        The rows to project.
+    centroid : ndarray of shape (d,)
+
+    Returns
+    -------
+    ndarray of shape (len(rows), d), float64, C-contiguous
+
+    Raises
+    ------
+    ValueError
+        When a row's distance from the centroid rounds to zero (no direction
+        to project along; e.g. coordinates below ~1e-154, whose squares underflow).
+    """
+    pts = np.asarray(points, dtype=np.float64)
+    idx = np.asarray(rows, dtype=np.int64)
+    d = pts.shape[1]
+    with np.errstate(over="ignore", invalid="ignore", under="ignore"):
+        rel = pts[idx] - centroid
+        length = np.sqrt(sum(rel[:, j] * rel[:, j] for j in range(d)))  # fixed order, no BLAS
+        if np.any(length == 0.0):
+            row = int(idx[np.argmax(length == 0.0)])
+            raise ValueError(
+                f"points row {row}: its distance from the centroid rounds to 0 (the point is "
+                "at the centroid, or the squares underflow); it cannot be projected"
+            )
+        projected = centroid + rel / length[:, None]
+    return np.ascontiguousarray(projected, dtype=np.float64)
+
+
 def surface_points(points: Any, /, *, eps: float | None = None) -> SurfacePoints:
     """Run Algorithm 1, lines 1-6 and 8: duplicates, centroid, support points.
 
@@ -273,12 +337,11 @@ def surface_points(points: Any, /, *, eps: float | None = None) -> SurfacePoints
     """
     pts = _as_points(points)
     tol = _resolve_eps(pts, eps)
-    kept = remove_duplicates(pts, tol)
+    kept, centroid = _kept_and_centroid(pts, tol)
     if len(kept) == 0:
-        return SurfacePoints(np.zeros(0, np.int64), np.full(pts.shape[1], np.nan), kept, tol)
+        return SurfacePoints(np.zeros(0, np.int64), centroid, kept, tol)
     uniq = pts[kept]
     with np.errstate(over="ignore", invalid="ignore"):  # huge input: inf/nan, as floats give
-        centroid = uniq.mean(axis=0)
         directions = uniq - centroid
     # A point at the centroid has no direction ("Normal = Centroid to
     # Points(i)" is the zero vector), so it asks for no support point.
@@ -332,17 +395,8 @@ def sphere_project(points: Any, /, *, eps: float | None = None) -> tuple[np.ndar
     d = pts.shape[1]
     if len(surf.indices) == 0:
         return np.zeros((0, d), dtype=np.float64), surf.indices
-    with np.errstate(over="ignore", invalid="ignore", under="ignore"):
-        rel = pts[surf.indices] - surf.centroid
-        length = np.sqrt(sum(rel[:, j] * rel[:, j] for j in range(d)))  # fixed order, no BLAS
-        if np.any(length == 0.0):
-            row = int(surf.indices[np.argmax(length == 0.0)])
-            raise ValueError(
-                f"points row {row}: its distance from the centroid rounds to 0 (the point is "
-                "at the centroid, or the squares underflow); it cannot be projected"
-            )
-        projected = surf.centroid + rel / length[:, None]
-    return np.ascontiguousarray(projected, dtype=np.float64), surf.indices.astype(np.int64, copy=False)
+    projected = project_onto_sphere(pts, surf.indices, surf.centroid)
+    return projected, surf.indices.astype(np.int64, copy=False)
 
 
 def map_back(output: Any, original_indices: np.ndarray) -> Any:

@@ -30,23 +30,15 @@ seed's formula would.
 
 from __future__ import annotations
 
-from enum import Enum
-
 import numpy as np
 
 from .errors import UsageError
+from .records import EpsPolicy
 
 __all__ = ["MACHINE_EPSILON", "EpsPolicy", "tolerance"]
 
 #: The seed's eps_machine: the gap between 1.0 and the next double, 2**-52.
 MACHINE_EPSILON: float = float(np.finfo(np.float64).eps)
-
-
-class EpsPolicy(str, Enum):
-    """How an algorithm's comparison tolerance is derived from its input."""
-
-    SCALED = "scaled"
-    FIXED = "fixed"
 
 
 def tolerance(points: np.ndarray, policy: EpsPolicy | str = EpsPolicy.SCALED) -> float:

@@ -114,7 +114,8 @@ def _finalize(run_dir, table, cases, meta, *, budget: TriageBudget | None = None
     files = write_run_report(run_dir, table, meta, triage, pictures=budget.pictures if pictures else 0,
                              plugins=plugins, junit_path=junit_path)
     return {"groups": triage.groups, "records": files.records, "notes": files.notes, "html": files.html,
-            "findings_csv": files.findings_csv, "junit": files.junit, "triage": triage}
+            "findings_md": files.findings_md, "findings_csv": files.findings_csv, "findings": files.findings,
+            "junit": files.junit, "triage": triage}
 
 
 class _Structure(HTMLParser):
@@ -285,21 +286,22 @@ def test_summary_findings_and_junit(failing_run):
     summary = (run_dir / "summary.md").read_text()
     assert summary.startswith("# hullstress run")
     assert f"{len(out['groups'])} failure groups" in summary and "## Top causes" in summary
-    assert "## Findings" in summary and "sphere projection" in summary
+    assert "## Findings" in summary
     for rec in out["records"]:
         assert f"]({rec.folder.relative_to(run_dir).as_posix()}/)" in summary  # a link to each folder
     causes = pd.read_csv(run_dir / "causes.csv")
     assert list(causes["slug"]) == [r.cause.slug for r in out["records"]]
     groups = pd.read_csv(run_dir / "groups.csv")
     assert sorted(groups["slug"]) == sorted(g.slug for g in out["groups"])
-    findings = pd.read_csv(out["findings_csv"])
-    assert set(findings["algorithm"]) == set(result.table["algorithm"])
-    raiser = findings[findings["algorithm"] == "test-report-raiser"].iloc[0]
-    table = result.table
-    sub = table[table["algorithm"] == "test-report-raiser"]
-    expected = sub[sub["eps"] == "fixed"]["status"].isin(["fail", "error", "timeout", "crash"]).mean()
-    assert raiser["eps_fixed"] == pytest.approx(expected)
-    assert pd.isna(findings[findings["algorithm"] == "test-report-good"].iloc[0]["eps_fixed"])
+    # The report's findings are the findings command's: the same computation, the same files.
+    from hullstress.report.findings import compute_findings, findings_frame, findings_markdown, run_source
+
+    findings = compute_findings(result.table, source=run_source(json.loads((run_dir / "run.json").read_text())))
+    assert out["findings_md"].read_text() == findings_markdown(findings, level=1)
+    assert out["findings_csv"].read_text() == findings_frame(findings).to_csv(index=False)
+    # This run has one plug-in family, no sphere and no placed family: those claims say so.
+    assert "untested here" in " ".join(out["findings"].claim("sphere-method").reading)
+    assert "untested here" in " ".join(out["findings"].claim("eps-policy").reading)
     doc = ET.parse(out["junit"]).getroot()
     failing = {(c.get("classname"), c.get("name")) for c in doc.iter("testcase") if c.find("failure") is not None}
     assert failing == {(g.signature.config.label, f) for g in out["groups"] for f in g.family_names}
@@ -394,26 +396,3 @@ def test_split_offending_sorts_keys_into_points_faces_and_edges():
     assert (pts, faces, edges) == ({1, 2, 4}, {0, 3}, {5})
 
 
-def test_findings_table_and_reading_on_a_hand_made_table():
-    from hullstress.report.findings import findings_reading, findings_table
-
-    rows = []
-    # alg-a: sphere on fixes coplanar-grid; alg-b: sphere on breaks it; eps only for alg-a.
-    for alg, eps_values in (("alg-a", ("scaled", "fixed")), ("alg-b", ("n/a",))):
-        for sphere in ("off", "on"):
-            for eps in eps_values:
-                for k in range(4):
-                    fails = (alg == "alg-a" and sphere == "off") or (alg == "alg-b" and sphere == "on" and k < 2)
-                    if alg == "alg-a" and eps == "fixed" and sphere == "on" and k == 0:
-                        fails = True
-                    rows.append({"generator": "coplanar-grid", "algorithm": alg, "sphere": sphere, "eps": eps,
-                                 "status": "fail" if fails else ("rejected" if k == 3 else "pass")})
-    f = findings_table(pd.DataFrame(rows)).set_index("algorithm")
-    assert f.loc["alg-a", "sphere_off"] == 1.0 and f.loc["alg-a", "sphere_on"] == 1 / 8
-    assert f.loc["alg-a", "eps_scaled"] == 0.5 and f.loc["alg-a", "eps_fixed"] == 5 / 8
-    assert f.loc["alg-b", "sphere_on"] == 0.5 and pd.isna(f.loc["alg-b", "eps_scaled"])
-    reading = findings_reading(f.reset_index())
-    sphere_line = [r for r in reading if r.startswith("sphere projection, degenerate families")][0]
-    assert "lower in 1, higher in 1, equal in 0 of 2" in sphere_line and "mixed effect" in sphere_line
-    eps_line = [r for r in reading if r.startswith("the scaled epsilon, degenerate families")][0]
-    assert "62.5% (fixed) vs 50.0% (scaled)" in eps_line and "helped on balance" in eps_line

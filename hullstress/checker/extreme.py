@@ -12,7 +12,7 @@ from fractions import Fraction
 
 import numpy as np
 
-__all__ = ["exact_extreme_2d", "first_of_each", "Coordinates"]
+__all__ = ["exact_extreme_2d", "first_of_each", "rows_in", "Coordinates"]
 
 _ERRBOUND = (3.0 + 16.0 * 2.0**-53) * 2.0**-53
 
@@ -143,3 +143,20 @@ class Coordinates:
         mark = np.zeros(self.count, dtype=bool)
         mark[groups] = True
         return mark[self._id[idx]]
+
+
+def rows_in(rows: np.ndarray, table: np.ndarray) -> np.ndarray:
+    """For each row of ``rows``, whether it equals some row of ``table`` (exact float equality).
+
+    Parameters
+    ----------
+    rows : ndarray of shape (k, d)
+    table : ndarray of shape (t, d)
+
+    Returns
+    -------
+    ndarray of shape (k,), bool
+    """
+    if not len(rows) or not len(table):
+        return np.zeros(len(rows), dtype=bool)
+    return np.isin(_keys(rows), _keys(table))

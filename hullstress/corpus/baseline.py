@@ -16,6 +16,7 @@ import pandas as pd
 
 from ..config import AlgorithmConfig
 from ..errors import CorpusError, UsageError
+from ..results import RESULTS_FILES, read_frame
 from .store import is_failure_signature, iter_corpus, row_signature
 
 __all__ = ["GROUP_KEYS", "failure_groups", "load_baseline", "compare_with_baseline"]
@@ -60,30 +61,20 @@ def load_baseline(path: str | os.PathLike[str]) -> pd.DataFrame:
     if not p.exists():
         raise UsageError(f"--baseline {str(path)!r}: no such file or directory")
     if p.is_dir():
-        for name in ("results.parquet", "results.csv"):
+        for name in RESULTS_FILES:
             if (p / name).exists():
                 return load_baseline(p / name)
         if any(p.glob("*.json")):
             return _from_corpus(p)
         raise UsageError(f"--baseline {str(path)!r}: neither a run folder (results.csv) nor a corpus folder (*.json)")
+    if p.suffix == ".json":
+        return _from_corpus(p)
+    if p.suffix not in (".parquet", ".csv"):
+        raise UsageError(f"--baseline {str(path)!r}: expected a run folder, results.csv, results.parquet or a corpus")
     try:
-        if p.suffix == ".parquet":
-            table = pd.read_parquet(p)
-        elif p.suffix == ".csv":
-            table = pd.read_csv(
-                # "n/a" is the eps column's value for algorithms without eps, not a missing value.
-                p, dtype={"reason": "string", "failed_checks": "string"}, keep_default_na=False, na_values=[""]
-            )
-        elif p.suffix == ".json":
-            return _from_corpus(p)
-        else:
-            raise UsageError(f"--baseline {str(path)!r}: expected a run folder, results.csv, results.parquet or a corpus")
+        table = read_frame(p)
     except (OSError, ValueError, ImportError) as exc:
         raise UsageError(f"--baseline {str(path)!r}: cannot read: {exc}") from None
-    missing = {"algorithm", "sphere", "eps", "generator", "status"} - set(table.columns)
-    if missing:
-        raise UsageError(f"--baseline {str(path)!r}: not a hullstress results table (missing columns {sorted(missing)})")
-    table = table.fillna({"reason": "", "failed_checks": ""})
     return failure_groups(table)
 
 

@@ -1,189 +1,136 @@
-"""Findings: do the seed documents' claims hold on this run's data?
+"""Findings: the claims checked against one run's results table, in one place.
 
-The seeds claim that (1) Kenwright's sphere projection tames coplanar and
-collinear inputs and (2) an epsilon scaled to the geometry's extent keeps
-coplanar points on the hull.  The findings table answers with failure rates:
-for each family and algorithm, the share of calls in which the algorithm
-failed (fail, error, timeout, crash; ``rejected`` is acceptable behaviour and
-not a failure) with sphere off vs on, and with eps scaled vs fixed.  With
-sphere on the algorithm is judged on the projected points it was given; the
-sphere method's own failures (stage ``preprocess``: it raised, or the correct
-hull of the projected points does not map back to the input's hull) are the
-column ``sphere_method``, and ``sphere_end_to_end`` is the share of sphere-on
-calls that did not end in the input's hull for either reason, the measure of
-claim (1).  Cells with no calls (an algorithm without ``eps``) are missing,
-not zero.
+``python -m hullstress findings RUN`` and the report stage of ``run`` both
+call :func:`compute_findings` and write its output with
+:func:`write_findings` (``findings.md``, ``findings.csv``); ``summary.md`` and
+``report.html`` render the same :class:`Findings`.  The claims, each split by
+dimension, placement (scale and offset) and size, with the measured cause:
+
+1. **the sphere method** (:mod:`.claim_sphere`): how often Kenwright's
+   projection loses the input's hull, per dimension, with vertex loss and
+   face-structure change counted apart;
+2. **eps policies** (:mod:`.claim_eps`): scaled vs fixed tolerance across
+   scales x1 to x1e12, offsets and the extremes, per algorithm taking eps;
+3. **uniform clouds** (:mod:`.claim_control`): the control family's failures
+   by variant and size;
+4. **degenerate vs control** (:mod:`.claim_control`): per algorithm and
+   dimension, failures on the degenerate families against uniform clouds.
+
+A finding about a variant never charges the algorithm it wraps: the sphere
+method's failures are stage ``preprocess``, every algorithm rate counts stage
+``algorithm`` only.  No claim invents data: a claim whose rows are absent
+says it is untested.
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
 import pandas as pd
 
-from ..records import Stage
-from .tables import failed_mask
+from ..files import atomic_write_text
+from .claim import Claim, claim_markdown
+from .claim_control import degenerate_claim, uniform_claim
+from .claim_eps import eps_claim
+from .claim_sphere import sphere_claim
+from .slices import sliced
 
-__all__ = ["findings_table", "findings_reading", "findings_markdown", "claim_families", "CLAIM_FAMILY_WORDS"]
+__all__ = ["Findings", "compute_findings", "findings_markdown", "findings_frame", "write_findings", "run_source",
+           "FINDINGS_MD", "FINDINGS_CSV"]
 
-#: A family is in the claims' scope when its name, or the module that registers
-#: it (``generators.coplanar``, ``generators.collinear``), contains one of these.
-CLAIM_FAMILY_WORDS = ("coplanar", "collinear")
-
-_COLUMNS = ["family", "algorithm", "calls", "rate", "sphere_off", "sphere_on", "sphere_method", "sphere_end_to_end",
-            "eps_scaled", "eps_fixed"]
-
-
-def _rate(df: pd.DataFrame, *stages: Stage) -> float:
-    """Share of ``df``'s calls failing at any of ``stages`` (the algorithm by default)."""
-    if not len(df):
-        return float("nan")
-    mask = pd.Series(False, index=df.index)
-    for stage in stages or (Stage.ALGORITHM,):
-        mask |= failed_mask(df, stage)
-    return float(mask.mean())
+#: File names in the run folder (or ``findings --out``).
+FINDINGS_MD = "findings.md"
+FINDINGS_CSV = "findings.csv"
 
 
-def findings_table(table: pd.DataFrame) -> pd.DataFrame:
-    """Failure rate per family x algorithm, split by sphere (off/on) and eps (scaled/fixed).
+@dataclass(frozen=True)
+class Findings:
+    """The claims of one results table.
+
+    Attributes
+    ----------
+    claims : tuple of Claim
+        In the order of the module docstring.
+    calls : int
+        Rows of the table.
+    source : str
+        Where the table came from (a run id and its command), for the heading.
+    """
+
+    claims: tuple[Claim, ...]
+    calls: int
+    source: str = ""
+
+    def claim(self, key: str) -> Claim:
+        """The claim named ``key`` (``sphere-method``, ``eps-policy``, ``uniform-variants``, ``degenerate-vs-control``)."""
+        for c in self.claims:
+            if c.key == key:
+                return c
+        raise KeyError(f"no claim {key!r}; claims: {', '.join(c.key for c in self.claims)}")
+
+
+def compute_findings(table: pd.DataFrame, *, source: str = "") -> Findings:
+    """Check every claim against a results table.
 
     Parameters
     ----------
     table : DataFrame
-        A results table.
+        A results table (:func:`hullstress.results.to_frame` or :func:`hullstress.results.read_frame`).
+    source : str
+        What the table is (a run id and command), repeated in the Markdown.
 
     Returns
     -------
-    DataFrame
-        Columns ``family, algorithm, calls, rate, sphere_off, sphere_on,
-        sphere_method, sphere_end_to_end, eps_scaled, eps_fixed`` (rates in
-        [0, 1], NaN where no call ran).
-
-    Examples
-    --------
-    >>> t = pd.DataFrame({"generator": "grid", "algorithm": "a", "sphere": ["off", "on", "off", "on"],
-    ...                   "eps": ["scaled", "scaled", "fixed", "fixed"],
-    ...                   "status": ["fail", "pass", "fail", "fail"],
-    ...                   "stage": ["algorithm", "algorithm", "algorithm", "preprocess"]})
-    >>> cols = ["sphere_off", "sphere_on", "sphere_method", "sphere_end_to_end", "eps_scaled", "eps_fixed"]
-    >>> findings_table(t)[cols].iloc[0].tolist()
-    [1.0, 0.0, 0.5, 0.5, 0.5, 0.5]
+    Findings
     """
-    if not len(table):
-        return pd.DataFrame(columns=_COLUMNS)
-    # Only the columns needed: slicing the whole (wide, string-heavy) table per group is slow.
-    algorithm_failed = failed_mask(table, Stage.ALGORITHM).to_numpy(dtype=float)
-    method_failed = failed_mask(table, Stage.PREPROCESS).to_numpy(dtype=float)
-    base = pd.DataFrame({
-        "family": table["generator"].astype(str).to_numpy(), "algorithm": table["algorithm"].astype(str).to_numpy(),
-        "sphere": table["sphere"].astype(str).to_numpy(), "eps": table["eps"].astype(str).to_numpy(),
-        "failed": algorithm_failed, "method": method_failed,
-        "end_to_end": ((algorithm_failed + method_failed) > 0).astype(float),
-    })
-    keys = ["family", "algorithm"]
-    groups = base.groupby(keys, sort=True)
-    out = pd.DataFrame({"calls": groups.size(), "rate": groups["failed"].mean()})
-    on = base[base["sphere"] == "on"].groupby(keys, sort=True)
-    out["sphere_method"] = on["method"].mean().reindex(out.index)
-    out["sphere_end_to_end"] = on["end_to_end"].mean().reindex(out.index)
-    for column, (field, value) in {"sphere_off": ("sphere", "off"), "sphere_on": ("sphere", "on"),
-                                   "eps_scaled": ("eps", "scaled"), "eps_fixed": ("eps", "fixed")}.items():
-        out[column] = base[base[field] == value].groupby(keys, sort=True)["failed"].mean().reindex(out.index)
-    return out.reset_index()[_COLUMNS].astype({"calls": int})
+    work = sliced(table)
+    claims = (sphere_claim(work), eps_claim(work), uniform_claim(work), degenerate_claim(work))
+    return Findings(claims=claims, calls=len(table), source=source)
 
 
-def claim_families(families: list[str]) -> list[str]:
-    """The families among ``families`` that the seeds' claims are about (coplanar, collinear inputs).
-
-    Examples
-    --------
-    >>> claim_families(["coplanar-grid", "random-ball", "my-collinear-runs"])
-    ['coplanar-grid', 'my-collinear-runs']
-    """
-    from .._registry import GENERATORS
-
-    chosen = []
-    for family in families:
-        module = ""
-        try:
-            if family in GENERATORS:
-                module = getattr(GENERATORS.get(family).func, "__module__", "") or ""
-        except Exception:  # a broken generator package must not break the report
-            module = ""
-        text = f"{family} {module}".lower()
-        if any(word in text for word in CLAIM_FAMILY_WORDS):
-            chosen.append(family)
-    return chosen
+def run_source(meta: Mapping[str, Any]) -> str:
+    """One line naming a run from its ``run.json``: id, profile, seed, sizes, families, calls."""
+    args = meta.get("arguments") or {}
+    parts = [f"run `{meta.get('run_id', '?')}`", f"profile `{meta.get('profile')}`", f"seed {meta.get('seed')}"]
+    if args.get("sizes"):
+        parts.append(f"sizes {args['sizes']}")
+    if args.get("generator"):
+        parts.append(f"families {', '.join(args['generator'])}")
+    if meta.get("calls") is not None:
+        parts.append(f"{meta['calls']} calls")
+    if meta.get("complete") is False:
+        parts.append("INCOMPLETE")
+    return ", ".join(parts)
 
 
-def _compare(f: pd.DataFrame, a: str, b: str) -> tuple[int, int, int, float, float, int]:
-    both = f.dropna(subset=[a, b])
-    return (int((both[b] < both[a]).sum()), int((both[b] > both[a]).sum()), int((both[b] == both[a]).sum()),
-            float(both[a].mean()) if len(both) else float("nan"),
-            float(both[b].mean()) if len(both) else float("nan"), len(both))
+def findings_markdown(findings: Findings, *, level: int = 2) -> str:
+    """The findings as Markdown: a heading, the source, then one section per claim."""
+    out = [f"{'#' * level} Findings", ""]
+    if findings.source:
+        out += [f"From {findings.source} ({findings.calls} rows).", ""]
+    else:
+        out += [f"From a results table of {findings.calls} rows.", ""]
+    for claim in findings.claims:
+        out.append(claim_markdown(claim, level + 1))
+    return "\n".join(out).rstrip("\n") + "\n"
 
 
-def findings_reading(findings: pd.DataFrame) -> list[str]:
-    """A short, literal reading of the findings table: one sentence per claim and scope.
-
-    Counts cells (family x algorithm) where the rate went down, up or stayed
-    the same, and gives the mean rates.  "Helped" needs both more cells down
-    than up and a lower mean; a mean difference under one percentage point is
-    called immaterial.  No significance test is made; a comparison without
-    data says so.
-    """
-    lines = []
-    claim = findings[findings["family"].isin(claim_families(sorted(findings["family"].unique())))]
-    scopes = [("degenerate families (" + ", ".join(sorted(claim["family"].unique())) + ")", claim)] if len(claim) else []
-    scopes.append(("all families", findings))
-    for what, a, b, label in (
-        ("sphere projection", "sphere_off", "sphere_end_to_end", "off vs on, end to end"),
-        ("the algorithms on the projected points", "sphere_off", "sphere_on", "input vs projected"),
-        ("the scaled epsilon", "eps_fixed", "eps_scaled", "fixed vs scaled"),
-    ):
-        for scope, f in scopes:
-            lower, higher, same, ma, mb, n = _compare(f, a, b)
-            if n == 0:
-                lines.append(f"{what}, {scope}: no cell ran both variants, so the claim is untested here.")
-                continue
-            if lower == higher == 0:
-                verdict = "made no difference"
-            elif abs(mb - ma) < 0.01:
-                verdict = "made no material difference (under one percentage point)"
-            elif lower > higher and mb < ma:
-                verdict = "helped on balance"
-            elif higher > lower and mb > ma:
-                verdict = "hurt on balance"
-            else:
-                verdict = "had a mixed effect"
-            lines.append(
-                f"{what}, {scope}: mean failure rate {ma:.1%} ({label.split(' vs ')[0]}) vs {mb:.1%} "
-                f"({label.split(' vs ')[1]}); lower in {lower}, higher in {higher}, equal in {same} of {n} "
-                f"family x algorithm cells: it {verdict}."
-            )
-    for scope, f in scopes:
-        method = f["sphere_method"].dropna()
-        if len(method):
-            lines.append(f"the sphere method itself, {scope}: it raised or lost the input's hull in {method.mean():.1%} "
-                         f"of sphere-on calls on average (stage preprocess, not counted against the algorithms).")
-    return lines
+def findings_frame(findings: Findings) -> pd.DataFrame:
+    """Every number of every claim, one row per finest split, with a ``claim`` column (``findings.csv``)."""
+    parts = [c.detail.assign(claim=c.key) for c in findings.claims if len(c.detail)]
+    if not parts:
+        return pd.DataFrame(columns=["claim"])
+    frame = pd.concat(parts, ignore_index=True, sort=False)
+    return frame[["claim", *[c for c in frame.columns if c != "claim"]]]
 
 
-def _pct(x: float) -> str:
-    return "" if pd.isna(x) else f"{x:.0%}"
-
-
-def findings_markdown(findings: pd.DataFrame, reading: list[str] | None = None) -> str:
-    """The findings as a Markdown section body: the reading, then the table (rates in %)."""
-    reading = findings_reading(findings) if reading is None else reading
-    out = [f"- {line}" for line in reading]
-    out.append("")
-    if findings.empty:
-        out.append("_(no calls)_")
-        return "\n".join(out) + "\n"
-    out.append("| family | algorithm | calls | rate | sphere off | sphere on | sphere method | sphere end to end "
-               "| eps scaled | eps fixed |")
-    out.append("|---|---|---|---|---|---|---|---|---|---|")
-    for r in findings.itertuples(index=False):
-        out.append(f"| {r.family} | {r.algorithm} | {r.calls} | {_pct(r.rate)} | {_pct(r.sphere_off)} | "
-                   f"{_pct(r.sphere_on)} | {_pct(r.sphere_method)} | {_pct(r.sphere_end_to_end)} | "
-                   f"{_pct(r.eps_scaled)} | {_pct(r.eps_fixed)} |")
-    return "\n".join(out) + "\n"
+def write_findings(folder: str | Path, findings: Findings) -> tuple[Path, Path]:
+    """Write ``findings.md`` and ``findings.csv`` into ``folder``; returns their paths."""
+    folder = Path(folder)
+    md, csv = folder / FINDINGS_MD, folder / FINDINGS_CSV
+    atomic_write_text(md, findings_markdown(findings, level=1))
+    atomic_write_text(csv, findings_frame(findings).to_csv(index=False))
+    return md, csv

@@ -22,7 +22,7 @@ import pandas as pd
 from ..results import STATUSES
 from ..triage.grouping import FailureGroup
 from .failures import FailureRecord
-from .findings import findings_reading
+from .findings import Findings
 from ..records import Stage
 from .tables import failed_mask, failure_counts, status_counts
 
@@ -42,6 +42,10 @@ pre{background:#f6f8fa;border:1px solid #ddd;padding:.6em;overflow-x:auto;white-
 .meta{color:#555}.bad{color:#b00}.ok{color:#080}
 dl{display:grid;grid-template-columns:max-content auto;gap:.2em 1em;margin:.6em 0}dt{font-weight:600}dd{margin:0}
 """
+
+
+#: Key columns of the findings' tables (left-aligned).
+_FINDINGS_KEYS = ("dim", "algorithm", "group", "variant", "placement", "n")
 
 
 def png_data_uri(png: bytes) -> str:
@@ -193,7 +197,7 @@ def render_html(
     table: pd.DataFrame,
     meta: Mapping[str, Any],
     records: Sequence[FailureRecord],
-    findings: pd.DataFrame,
+    findings: Findings,
     *,
     notes: Sequence[str] = (),
     groups: Sequence[FailureGroup] | None = None,
@@ -208,8 +212,9 @@ def render_html(
         ``run.json``'s content (run id, profile, seed, timings, completeness).
     records : sequence of FailureRecord
         One per cause folder written, worst first.
-    findings : DataFrame
-        From :func:`hullstress.report.findings.findings_table`.
+    findings : Findings
+        From :func:`hullstress.report.findings.compute_findings` (the same
+        claims as ``findings.md``).
     notes : sequence of str
         Lines about how triage ran (budgets, groups not shrunk).
     groups : sequence of FailureGroup, optional
@@ -263,13 +268,18 @@ def render_html(
         out.append("<h3>Failure counts (groups with a failure, worst first)</h3>")
         out.append(_table(failure_counts(table), left=("algorithm", "sphere", "eps", "generator"), cell=_pct_cell))
 
-    out.append('<h2 id="findings">Findings: the seeds\' claims against this run</h2>')
-    out.append("<p>Claims: sphere projection tames coplanar and collinear inputs; an epsilon scaled to the "
-               "geometry keeps coplanar points on the hull. Failure rate per family and algorithm, with "
-               "sphere off vs on (on: the algorithm judged on the projected points), the sphere method's own "
-               "failures, sphere on end to end, and eps scaled vs fixed (blank: the variant does not apply).</p>")
-    out.append("<ul>" + "".join(f"<li>{_e(line)}</li>" for line in findings_reading(findings)) + "</ul>")
-    out.append(_table(findings, left=("family", "algorithm"), cell=_pct_cell))
+    out.append('<h2 id="findings">Findings: the claims against this run</h2>')
+    out.append("<p>The same claims as <code>findings.md</code> and <code>findings.csv</code> "
+               "(<code>python -m hullstress findings</code>). Cells count failed/calls; a variant's findings "
+               "never charge the algorithm it wraps.</p>")
+    for claim in findings.claims:
+        out.append(f"<h3>{_e(claim.title)}</h3>")
+        out.append(f'<p class="meta">Scope: {_e(claim.scope)}</p>')
+        items = [_e(line) for line in claim.reading] + [f"<strong>Why:</strong> {_e(line)}" for line in claim.why]
+        out.append("<ul>" + "".join(f"<li>{item}</li>" for item in items) + "</ul>")
+        for caption, frame in claim.tables:
+            out.append(f"<p>{_e(caption)}:</p>")
+            out.append(_table(frame, left=_FINDINGS_KEYS))
 
     out.append(f'<h2 id="causes">Causes ({len(records)})</h2>')
     for line in notes:

@@ -4,8 +4,10 @@
 the triage stage's records (:class:`hullstress.triage.records.TriageResult`)
 and writes the run folder: ``results.csv`` / ``.parquet``, ``run.json``,
 ``failures/<cause>/`` (one folder per cause) with ``failures/index.json``,
-``causes.csv``, ``groups.csv``, ``findings.csv``, ``summary.md`` (one
-screen), ``report.html``, the baseline comparison and JUnit XML.
+``causes.csv``, ``groups.csv``, ``findings.md`` and ``findings.csv``
+(:mod:`hullstress.report.findings`, the same files ``python -m hullstress
+findings`` writes), ``summary.md`` (one screen), ``report.html``, the baseline
+comparison and JUnit XML.
 
 Pictures are drawn for the top causes only (the profile's picture count), so
 which folders have one does not depend on the machine's speed; an interrupt
@@ -27,13 +29,14 @@ import pandas as pd
 from ..files import atomic_write_text
 from ..triage.records import TriageResult
 from .failures import FailureRecord, draw_picture, write_cause_folder
-from .findings import findings_reading, findings_table
+from .findings import Findings, compute_findings, run_source, write_findings
 from .hints import clockwise_hints
 from .html import render_html
 from .junit import write_junit
 from .tables import metamorphic_changes
 from .summary import TABLES, causes_frame, groups_table, summary_markdown, write_summary
-from .writer import _markdown, write_report
+from .claim import markdown_table as _markdown
+from .writer import write_report
 
 __all__ = ["ReportFiles", "write_run_report"]
 
@@ -50,9 +53,10 @@ class ReportFiles:
     records : list of FailureRecord
         One per cause folder, worst cause first.
     notes : list of str
-        Triage's and the report's notes.
-    findings : DataFrame
-    html, summary, findings_csv, index : Path
+        Triage's and the report's notes (budgets, groups without folders or pictures).
+    findings : Findings
+        The claims checked against the run (:func:`hullstress.report.findings.compute_findings`).
+    html, summary, findings_md, findings_csv, index : Path
     junit : Path or None
     seconds : float
     hints : list of str
@@ -61,9 +65,10 @@ class ReportFiles:
 
     records: list[FailureRecord]
     notes: list[str]
-    findings: pd.DataFrame
+    findings: Findings
     html: Path
     summary: Path
+    findings_md: Path
     findings_csv: Path
     index: Path
     junit: Path | None
@@ -183,10 +188,10 @@ def write_run_report(
         notes.append(f"Metamorphic copies: {len(changes)} of {copies} calls on a transformed copy gave another "
                      "verdict than on the original (metamorphic.csv).")
     folders = {r.cause.slug: r.folder.relative_to(run_dir).as_posix() for r in records}
-    findings = findings_table(table)
-    reading = findings_reading(findings)
-    findings_csv = run_dir / TABLES["the seeds' claims"]
-    atomic_write_text(findings_csv, findings.to_csv(index=False))
+    findings = compute_findings(table, source=run_source(meta))
+    findings_md, findings_csv = write_findings(run_dir, findings)
+    # summary.md fits on a screen: one sentence per claim; findings.md has the rest.
+    reading = [f"{claim.title}: {claim.reading[0]}" for claim in findings.claims if claim.reading]
     atomic_write_text(run_dir / TABLES["causes"], causes_frame(causes, folders).to_csv(index=False))
     atomic_write_text(run_dir / TABLES["groups"], groups_table(triage.groups, causes).to_csv(index=False))
     index = _write_index(run_dir, records, len(triage.groups))
@@ -198,8 +203,8 @@ def write_run_report(
     atomic_write_text(html_path, render_html(table, meta, records, findings, notes=notes, groups=triage.groups))
     junit = write_junit(junit_path, table, records) if junit_path is not None else None
     return ReportFiles(records=records, notes=notes, findings=findings, html=html_path, summary=summary,
-                       findings_csv=findings_csv, index=index, junit=junit, seconds=time.perf_counter() - start,
-                       hints=hints)
+                       findings_md=findings_md, findings_csv=findings_csv, index=index, junit=junit,
+                       seconds=time.perf_counter() - start, hints=hints)
 
 
 def _needs_registration(algorithm: str) -> bool:

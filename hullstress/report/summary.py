@@ -34,7 +34,7 @@ TABLES = {
     "groups": "groups.csv",
     "failures by config x family": "failures_by_config_family.csv",
     "calls by config": "status_by_config.csv",
-    "the seeds' claims": "findings.csv",
+    "the seeds' claims": "findings.md",
 }
 
 

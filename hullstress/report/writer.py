@@ -169,17 +169,6 @@ def _parquet_available() -> bool:
     return True
 
 
-def _markdown(df: pd.DataFrame) -> str:
-    """A pipe table without the optional ``tabulate`` dependency."""
-    if df.empty:
-        return "_(none)_\n"
-    cols = [str(c) for c in df.columns]
-    lines = ["| " + " | ".join(cols) + " |", "|" + "|".join("---" for _ in cols) + "|"]
-    for rec in df.itertuples(index=False):
-        lines.append("| " + " | ".join("" if pd.isna(v) else str(v) for v in rec) + " |")
-    return "\n".join(lines) + "\n"
-
-
 def write_report(run_dir: Path, df: pd.DataFrame, meta: Mapping[str, Any], *, tables: bool = True) -> dict[str, Path]:
     """Write the run's tables and metadata into ``run_dir``.
 
