@@ -11,6 +11,7 @@ from ..errors import UsageError
 
 __all__ = ["add_parser", "findings_command", "find_results_table"]
 
+
 def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     p = sub.add_parser(
         "findings",
@@ -19,8 +20,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
         "its two causes (vertex loss, face-structure change), eps policies across scales, the uniform "
         "family's failures by variant and size, and each algorithm's failures on the degenerate families "
         "against the uniform control. Prints the Markdown and writes findings.md and findings.csv into the "
-        "run folder (or --out). The report of `run` writes the same files. Exit status 0, or 2 when RUN "
-        "holds no readable results table or --out cannot be written.",
+        "run folder (or --out). The report of `run` writes the same files. Exit status 0; 2 when RUN "
+        "holds no readable results table or --out is not a folder; 4 when the disk refuses --out "
+        "(read-only, full).",
     )
     p.add_argument("run", metavar="RUN", help="a run folder (with results.parquet or results.csv), or a results table")
     p.add_argument("--out", default=None, metavar="DIR",
@@ -62,7 +64,7 @@ def _source(table_path: Path) -> str:
 
 
 def findings_command(args: argparse.Namespace) -> int:
-    from ..errors import one_line
+    from ..errors import EnvironmentFailure, is_environment_error, one_line
     from ..report.findings import compute_findings, findings_markdown, write_findings
     from ..results import REQUIRED_COLUMNS, read_frame
 
@@ -77,7 +79,10 @@ def findings_command(args: argparse.Namespace) -> int:
         out.mkdir(parents=True, exist_ok=True)
         md, csv = write_findings(out, findings)
     except OSError as exc:
-        raise UsageError(f"--out {str(out)!r}: cannot write the findings there: {exc.strerror or exc}") from None
+        message = f"--out {str(out)!r}: cannot write the findings there: {exc.strerror or exc}"
+        if is_environment_error(exc):  # a read-only or full disk: the environment's status, not a usage error
+            raise EnvironmentFailure(message) from None
+        raise UsageError(message) from None
     if not args.quiet:
         sys.stdout.write(findings_markdown(findings, level=1) + "\n")
     print(f"findings: {md} {csv}")
