@@ -19,6 +19,7 @@ from types import MappingProxyType
 from typing import Any, Generic, TypeVar
 
 from .errors import DuplicateNameError, UnknownNameError, UsageError
+from .records import Origin
 
 __all__ = [
     "AlgorithmSpec",
@@ -45,7 +46,7 @@ def _summary(func: Callable[..., Any]) -> str:
 
 
 #: Where a registered algorithm comes from (the ``origin`` column).
-ORIGINS = ("in-house", "adapter", "plugin", "executable")
+ORIGINS = tuple(o.value for o in Origin)
 
 
 def _origin(func: Callable[..., Any]) -> str:
@@ -343,7 +344,7 @@ def register_executable(
     load_builtins()  # a clash with a built-in name is reported here, naming this program
     func = ExecutableHull.from_command(command, dim=int(dim), output=output)
     return ALGORITHMS.add(
-        AlgorithmSpec(name=name, func=func, dim=int(dim), takes_eps=False, origin="executable",
+        AlgorithmSpec(name=name, func=func, dim=int(dim), takes_eps=False, origin=Origin.EXECUTABLE.value,
                       summary=func.describe(clockwise=bool(clockwise)), clockwise=bool(clockwise))
     )
 

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 from ._registry import AlgorithmSpec, get_algorithm
 from .errors import UsageError
-from .records import Origin
+from .records import NO_EPS, EpsPolicy, Origin, Sphere
 
 __all__ = [
     "AlgorithmConfig",
@@ -35,11 +35,12 @@ __all__ = [
     "sphere_duplicate_policy",
 ]
 
-SPHERE_CHOICES = ("off", "on", "both")
-EPS_CHOICES = ("scaled", "fixed", "both")
-#: The eps column's value when no ``eps`` is passed: the algorithm takes none,
-#: or keeps its own tolerance (a library's default).
-NO_EPS = "n/a"
+#: The word of ``--sphere`` / ``--eps`` that asks for every variant.
+BOTH = "both"
+SPHERE_CHOICES = (Sphere.OFF.value, Sphere.ON.value, BOTH)
+EPS_CHOICES = (EpsPolicy.SCALED.value, EpsPolicy.FIXED.value, BOTH)
+# NO_EPS (records): the eps column's value when no ``eps`` is passed: the algorithm takes none,
+# or keeps its own tolerance (a library's default).
 
 
 def sphere_duplicate_policy(eps: str) -> str:
@@ -50,7 +51,7 @@ def sphere_duplicate_policy(eps: str) -> str:
     >>> sphere_duplicate_policy("fixed"), sphere_duplicate_policy(NO_EPS)
     ('fixed', 'scaled')
     """
-    return "scaled" if eps == NO_EPS else eps
+    return EpsPolicy.SCALED.value if eps == NO_EPS else eps
 
 
 @dataclass(frozen=True)
@@ -69,9 +70,10 @@ class VariantDefaults:
 
 
 #: In-house algorithms: every variant the seeds' claims are about.
-SEED_VARIANTS = VariantDefaults(sphere=("off", "on"), eps=("scaled", "fixed"))
+SEED_VARIANTS = VariantDefaults(sphere=(Sphere.OFF.value, Sphere.ON.value),
+                                eps=(EpsPolicy.SCALED.value, EpsPolicy.FIXED.value))
 #: Plug-ins, adapters and executables: the input as it is, the library's own tolerance.
-LIBRARY_VARIANTS = VariantDefaults(sphere=("off",), eps=())
+LIBRARY_VARIANTS = VariantDefaults(sphere=(Sphere.OFF.value,), eps=())
 
 
 def default_variants(origin: str) -> VariantDefaults:
@@ -83,6 +85,10 @@ def default_variants(origin: str) -> VariantDefaults:
     (('off', 'on'), ())
     """
     return SEED_VARIANTS if origin == Origin.IN_HOUSE else LIBRARY_VARIANTS
+
+
+_SPHERES = frozenset(Sphere)
+_EPS_VALUES = frozenset(EpsPolicy) | {NO_EPS}
 
 
 @dataclass(frozen=True, order=True)
@@ -101,14 +107,17 @@ class AlgorithmConfig:
     """
 
     algorithm: str
-    sphere: str = "off"
+    sphere: str = Sphere.OFF.value
     eps: str = NO_EPS
 
     def __post_init__(self) -> None:
-        if self.sphere not in ("off", "on"):
+        if self.sphere not in _SPHERES:
             raise UsageError(f"sphere must be 'off' or 'on', got {self.sphere!r}")
-        if self.eps not in ("scaled", "fixed", NO_EPS):
+        if self.eps not in _EPS_VALUES:
             raise UsageError(f"eps must be 'scaled', 'fixed' or {NO_EPS!r}, got {self.eps!r}")
+        # Stored as plain strings: a config is a key of tables, JSON and pickles.
+        object.__setattr__(self, "sphere", str(self.sphere))
+        object.__setattr__(self, "eps", str(self.eps))
 
     @property
     def variant(self) -> str:
@@ -150,12 +159,12 @@ _LABEL = re.compile(r"^(?P<algorithm>.+)\[sphere=(?P<sphere>[^,\]]+),eps=(?P<eps
 def _choices(value: str, allowed: Sequence[str], option: str) -> tuple[str, ...]:
     if value not in allowed:
         raise UsageError(f"{option} must be one of {', '.join(allowed)}, got {value!r}")
-    if value == "both":
-        return tuple(a for a in allowed if a != "both")
+    if value == BOTH:
+        return tuple(a for a in allowed if a != BOTH)
     return (value,)
 
 
-def single_config(spec: AlgorithmSpec, sphere: str = "off", eps: str | None = None) -> AlgorithmConfig:
+def single_config(spec: AlgorithmSpec, sphere: str = Sphere.OFF.value, eps: str | None = None) -> AlgorithmConfig:
     """One config of ``spec`` (for shrink and fuzz): ``eps=None`` means its origin's first default.
 
     Examples

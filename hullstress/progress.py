@@ -13,11 +13,12 @@ import time
 from typing import Any, TextIO
 
 from .results import ResultRow
+from .records import FAILED_STATUSES
 
 __all__ = ["ProgressBar", "PhaseProgress", "progress_enabled"]
 
 #: Statuses that count as failures (as in the report).
-_FAILED = frozenset(("fail", "error", "timeout", "crash"))
+_FAILED = FAILED_STATUSES
 #: Seconds between redraws of the fallback counter.
 _REDRAW_SECONDS = 0.5
 

@@ -34,6 +34,9 @@ class _Word(str, Enum):
     def __format__(self, spec: str) -> str:
         return format(str(self.value), spec)
 
+    # Enum hashes the member's name; a word must hash as its value so ``"fail" in {Status.FAIL}`` holds.
+    __hash__ = str.__hash__
+
 
 class Status(_Word):
     """How one call ended; every row has exactly one (DESIGN.md, "The runner").
@@ -55,7 +58,7 @@ class Status(_Word):
 
     Examples
     --------
-    >>> Status("fail") is Status.FAIL, f"{Status.CRASH}", Status.ERROR in FAILED_STATUSES
+    >>> Status("fail") is Status.FAIL, f"{Status.CRASH}", "error" in FAILED_STATUSES
     (True, 'crash', True)
     """
 

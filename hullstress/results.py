@@ -12,7 +12,7 @@ import pandas as pd
 
 from .case import Case
 from .config import AlgorithmConfig
-from .records import Stage
+from .records import FAILED_STATUSES, Stage, Status
 from .sphere_causes import SPHERE_CAUSE_COLUMNS, SphereCauses, empty_sphere_causes
 from .verdict import VERDICT_COLUMNS, Verdict, empty_verdict_row
 
@@ -29,7 +29,7 @@ __all__ = [
 ]
 
 #: Every call ends in exactly one of these (DESIGN.md, "The runner").
-STATUSES = ("pass", "fail", "rejected", "error", "timeout", "crash")
+STATUSES = tuple(s.value for s in Status)
 
 _PROVENANCE = ("case_id", "generator", "params", "transform", "dim", "n_points", "size", "seed", "source")
 _CONFIG = ("algorithm", "origin", "sphere", "eps", "config")
@@ -71,7 +71,7 @@ class ResultRow:
     @property
     def failed(self) -> bool:
         """True for outcomes that count as failures: fail, error, timeout, crash."""
-        return self.values["status"] in ("fail", "error", "timeout", "crash")
+        return self.values["status"] in FAILED_STATUSES
 
 
 def make_row(

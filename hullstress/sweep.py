@@ -38,6 +38,7 @@ from .options import DEFAULTS, Profile, case_memory_bytes, get_profile, memory_c
 from .rbox import RBOX_SEED_MODULUS, is_rbox_spec, parse_rbox_spec, rbox_count, rbox_points
 from .results import ResultRow, to_frame
 from .runner import ExecutionStats, RunnerOptions, Task, execute
+from .records import FAILED_STATUSES
 
 __all__ = ["SweepOptions", "SweepResult", "build_cases", "build_tasks", "case_seed", "check_sizes", "run_sweep",
            "sort_table"]
@@ -93,7 +94,7 @@ class SweepResult:
 
     @property
     def n_failed(self) -> int:
-        return int(self.table["status"].isin(["fail", "error", "timeout", "crash"]).sum())
+        return int(self.table["status"].isin([s.value for s in FAILED_STATUSES]).sum())
 
 
 def case_seed(base_seed: int, family: str, params_json: str, dim: int, size: int | None, replicate: int) -> int:

@@ -25,6 +25,7 @@ import numpy as np
 from .contract import FaceSet, normalize_output
 from .errors import ContractViolation, UsageError
 from .verdict import Verdict
+from .records import Severity
 
 __all__ = ["assert_valid_hull", "assert_same_hull"]
 
@@ -178,7 +179,7 @@ def assert_valid_hull(
         _expected_line(pts, verdict),
         _got_line(pts, verdict),
     ]
-    if verdict.severity != "none":
+    if verdict.severity != Severity.NONE:
         lines.append(
             f"  worst violation: {verdict.severity}, "
             f"{verdict.max_violation:.3g} x DISTround ({verdict.distround:.3g})"

@@ -32,6 +32,7 @@ from contextlib import contextmanager
 from typing import NoReturn
 
 from ..errors import EnvironmentFailure, ExitStatus, Interrupted, UsageError, is_environment_error
+from ..records import Origin
 
 __all__ = [
     "main",
@@ -133,7 +134,7 @@ def _registrations(args: argparse.Namespace) -> Iterator[None]:
         for name in ALGORITHMS.names():
             old = before.get(name)
             spec = ALGORITHMS.get(name)
-            if old is None and spec.origin == "executable":
+            if old is None and spec.origin == Origin.EXECUTABLE:
                 ALGORITHMS.remove(name)
             elif old is not None and old.clockwise != spec.clockwise:
                 ALGORITHMS.replace(old)

@@ -22,6 +22,7 @@ import numpy as np
 
 from ..errors import UsageError
 from ._common import seconds
+from ..records import Status
 
 __all__ = ["add_parser", "reproduce_command", "witness_lines"]
 
@@ -141,7 +142,7 @@ def _run(points: np.ndarray, dim: int, recorded: Any, timeout: float) -> tuple[b
         lines.append(f"  raised at: {row.get('error_frame')}")
     offending = values.get("offending") or {}
     if offending:
-        faces = _output_faces(points, dim, config) if row.status == "fail" and "face" in " ".join(offending) else None
+        faces = _output_faces(points, dim, config) if row.status == Status.FAIL and "face" in " ".join(offending) else None
         lines.append("  witness:")
         lines += [f"    {w}" for w in witness_lines(points, offending, faces)]
     if now == recorded:

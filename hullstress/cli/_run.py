@@ -12,6 +12,7 @@ from ..errors import UsageError
 from ..options import DEFAULTS, PROFILES
 from . import EXIT_NO_WORK, EXIT_STATUS_HELP
 from ._common import add_registration_options, count, mebibytes, registration_args, seconds
+from ..records import Status
 
 __all__ = ["add_parser", "run_command", "parse_sizes"]
 
@@ -178,7 +179,7 @@ def _print_summary(the_run: Any, args: argparse.Namespace, *, quiet: bool) -> No
         print(f"note: {note}", file=sys.stderr)
     table = the_run.table
     counts = table["status"].value_counts()
-    line = ", ".join(f"{counts.get(s, 0)} {s}" for s in ("pass", "fail", "rejected", "error", "timeout", "crash"))
+    line = ", ".join(f"{counts.get(s, 0)} {s}" for s in Status)
     triage = the_run.triage
     report = the_run.report
     folders = {r.cause.slug: r.folder for r in report.records} if report is not None else {}

@@ -19,14 +19,14 @@ import numpy as np
 from ..case import Case
 from ..options import DEFAULTS
 from .replay import add_to_corpus
-from .store import provenance_for, with_stage
+from .store import ABNORMAL_STATUSES, provenance_for, with_stage
 
 __all__ = ["corpus_signature", "select_for_corpus", "save_minimised_failures"]
 
 
 def corpus_signature(check: str, stage: str = "algorithm") -> str:
     """A triage signature's check as a corpus signature (``containment`` -> ``fail:containment``)."""
-    return with_stage(check if check in ("error", "timeout", "crash") else f"fail:{check}", stage)
+    return with_stage(check if check in ABNORMAL_STATUSES else f"fail:{check}", stage)
 
 
 def select_for_corpus(records: Sequence[Any], new_groups: Collection[tuple[str, ...]] | None = None) -> list[Any]:

@@ -42,9 +42,12 @@ import numpy as np
 from ..case import Case
 from ..errors import CorpusError
 from ..files import atomic_write_text
-from ..records import Stage
+from ..records import Stage, Status
 from ..results import ResultRow
 from ..triage.signature import failed_check, stage_of
+
+#: Statuses whose corpus signature is the status itself (no failed check to name).
+ABNORMAL_STATUSES = frozenset({Status.ERROR, Status.TIMEOUT, Status.CRASH})
 
 __all__ = [
     "FORMAT",
@@ -75,7 +78,7 @@ def row_signature(row: ResultRow | Mapping[str, Any]) -> str:
     """
     values = row.values if isinstance(row, ResultRow) else row
     status = str(values["status"])
-    if status != "fail":
+    if status != Status.FAIL:
         signature = status
     else:
         signature = "fail:" + str(failed_check(status, values.get("reason"), values.get("failed_checks")))
@@ -97,7 +100,7 @@ def with_stage(signature: str, stage: Any) -> str:
 def is_failure_signature(signature: str) -> bool:
     """True for signatures that count as failures (fail:*, error, timeout, crash, at any stage)."""
     signature = signature.split("/", 1)[-1]
-    return signature.startswith("fail") or signature in ("error", "timeout", "crash")
+    return signature.startswith(Status.FAIL.value) or signature in ABNORMAL_STATUSES
 
 
 @dataclass(frozen=True)

@@ -18,6 +18,7 @@ from ..config import NO_EPS
 from ..tolerance import EpsPolicy
 from .claim import Claim
 from .slices import CONTROL_FAMILY, claim_families, failure_counts_by, failure_reasons, percent, ratio
+from ..records import Sphere
 
 __all__ = ["uniform_claim", "degenerate_claim"]
 
@@ -56,8 +57,8 @@ def uniform_claim(table: pd.DataFrame) -> Claim:
     if not len(rows):
         return Claim("uniform-variants", title, scope, (f"No `{CONTROL_FAMILY}` row ran: the claim is untested here.",), ())
     detail = failure_counts_by(rows, ["algorithm", "dim", "variant", "n", "sphere", "eps"])
-    off = detail[detail["sphere"] == "off"]
-    on = detail[detail["sphere"] == "on"]
+    off = detail[detail["sphere"] == Sphere.OFF.value]
+    on = detail[detail["sphere"] == Sphere.ON.value]
     failing = sorted(off.loc[off["failed"] > 0, "algorithm"].unique())
     clean = sorted(set(off["algorithm"]) - set(failing))
     sizes = sorted(int(n) for n in off["n"].dropna().unique())
@@ -69,7 +70,7 @@ def uniform_claim(table: pd.DataFrame) -> Claim:
         by_size = "; ".join(f"n={n} {_cell(sub[sub['n'] == n])}" for n in sizes if (sub["n"] == n).any())
         reading.append(f"{alg} ({dim}D), sphere off: {_total(sub)} failed; by variant: {by_variant}; by size: "
                        f"{by_size}.")
-        raw = rows[(rows["algorithm"] == alg) & (rows["sphere"] == "off")]
+        raw = rows[(rows["algorithm"] == alg) & (rows["sphere"] == Sphere.OFF.value)]
         why.append(f"{alg}: {failure_reasons(raw)} (failed checks, or error type, of the failing calls).")
         for v in sorted(sub["variant"].unique()):
             rec: dict[str, object] = {"algorithm": alg, "variant": v}
@@ -109,18 +110,18 @@ def degenerate_claim(table: pd.DataFrame) -> Claim:
     for (dim, alg), sub in detail.groupby(["dim", "algorithm"], sort=True, observed=True):
         rec: dict[str, object] = {"dim": dim, "algorithm": alg}
         for k in ("degenerate", "uniform"):
-            off, on = (sub[(sub["kind"] == k) & (sub["sphere"] == s)] for s in ("off", "on"))
+            off, on = (sub[(sub["kind"] == k) & (sub["sphere"] == s)] for s in (Sphere.OFF.value, Sphere.ON.value))
             rec[f"{k}, sphere off"] = _total(off) if len(off) else "-"
             rec[f"{k}, sphere on"] = _total(on) if len(on) else "-"
             rec[f"{k}, sphere on, end to end"] = _end_to_end(on) if len(on) else "-"
         summary.append(rec)
-        deg = sub[(sub["kind"] == "degenerate") & (sub["sphere"] == "off")]
+        deg = sub[(sub["kind"] == "degenerate") & (sub["sphere"] == Sphere.OFF.value)]
         size_rec: dict[str, object] = {"dim": dim, "algorithm": alg}
         for n in sizes:
             part = deg[deg["n"] == n]
             size_rec[f"n={n}"] = _total(part) if len(part) else "-"
         by_size.append(size_rec)
-        raw = rows[(rows["algorithm"] == alg) & (rows["kind"] == "degenerate") & (rows["sphere"] == "off")]
+        raw = rows[(rows["algorithm"] == alg) & (rows["kind"] == "degenerate") & (rows["sphere"] == Sphere.OFF.value)]
         reasons = failure_reasons(raw)
         if reasons:
             why.append(f"{alg} on degenerate families, sphere off: {reasons}.")

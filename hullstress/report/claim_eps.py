@@ -20,6 +20,7 @@ import pandas as pd
 from ..tolerance import MACHINE_EPSILON, EpsPolicy
 from .claim import Claim
 from .slices import CONTROL_FAMILY, failure_counts_by, placement_order, ratio
+from ..records import Sphere
 
 __all__ = ["eps_claim", "MODERATE_SCALES"]
 
@@ -32,7 +33,7 @@ _KEYS = ["algorithm", "dim", "family", "variant", "placement", "n"]
 def _rows(table: pd.DataFrame) -> pd.DataFrame:
     if not len(table):
         return table
-    return table[(table["sphere"] == "off") & table["eps"].isin([_FIXED, _SCALED]) & table["placed"]]
+    return table[(table["sphere"] == Sphere.OFF.value) & table["eps"].isin([_FIXED, _SCALED]) & table["placed"]]
 
 
 def _detail(rows: pd.DataFrame) -> pd.DataFrame:

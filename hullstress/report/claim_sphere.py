@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import pandas as pd
 
-from ..records import SphereStructure, Stage
+from ..records import Sphere, SphereStructure, Stage, Status
 from ..tolerance import EpsPolicy
 from .claim import Claim
 from .slices import CONTROL_FAMILY, claim_families, duplicate_policy, percent, placement_order, ratio
@@ -58,7 +58,7 @@ def projections(table: pd.DataFrame) -> pd.DataFrame:
         kept_structure``; ``projected`` is False when the method raised or declined before the call.
     """
     cols = ["case_id", *_KEYS, "projected", "extreme", "lost", "structure", "kept_structure"]
-    on = table[table["sphere"] == "on"] if len(table) else table
+    on = table[table["sphere"] == Sphere.ON.value] if len(table) else table
     if not len(on):
         return pd.DataFrame(columns=cols)
     structure = on["sphere_structure"].astype("string").fillna("")
@@ -66,7 +66,7 @@ def projections(table: pd.DataFrame) -> pd.DataFrame:
     rank = (structure == "").astype(int) * 2 + (duplicate_policy(on["eps"]) != EpsPolicy.SCALED.value).astype(int)
     one = on.assign(structure=structure, kept_structure=kept, _rank=rank)
     one = one.sort_values(["case_id", "_rank"], kind="stable").drop_duplicates("case_id")
-    declined = (one["stage"] == Stage.PREPROCESS.value) & one["status"].isin(["error", "rejected"])
+    declined = (one["stage"] == Stage.PREPROCESS.value) & one["status"].isin([Status.ERROR.value, Status.REJECTED.value])
     out = one.assign(projected=~((one["structure"] == "") & declined),
                      extreme=one["sphere_extreme"], lost=one["sphere_lost_extreme"])
     return out[cols].reset_index(drop=True)
@@ -146,7 +146,7 @@ def _why(proj: pd.DataFrame, dim: int, what: str) -> str:
 def sphere_claim(table: pd.DataFrame) -> Claim:
     """The sphere-method finding of a sliced results table."""
     proj = projections(table)
-    rows = table[table["sphere"] == "on"]
+    rows = table[table["sphere"] == Sphere.ON.value]
     degenerate = set(claim_families(sorted(table["generator"].unique()))) if len(table) else set()
     scope = ("rows with sphere on; the method's verdict (stage preprocess) and its causes, one projection per "
              "case; the algorithms' own failures on the projected points (stage algorithm) are theirs, not the "

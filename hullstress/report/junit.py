@@ -24,7 +24,7 @@ import pandas as pd
 from ..files import atomic_write_text, writable_folder
 from ..triage.signature import signature_of
 from .failures import FailureRecord
-from ..records import Stage
+from ..records import Sphere, Stage, Status
 from .tables import failed_mask, stages
 
 __all__ = ["junit_xml", "write_junit"]
@@ -93,7 +93,7 @@ def junit_xml(table: pd.DataFrame, records: Sequence[FailureRecord], *, suite: s
         table = table.assign(stage=stages(table))
         for config, sub in table.groupby("config", sort=True, observed=True):
             _suite(root, str(config), sub, Stage.ALGORITHM, by_key, totals)
-            if (sub["sphere"] == "on").any() or (sub["stage"] == Stage.PREPROCESS.value).any():
+            if (sub["sphere"] == Sphere.ON.value).any() or (sub["stage"] == Stage.PREPROCESS.value).any():
                 _suite(root, f"{config} (stage preprocess)", sub, Stage.PREPROCESS, by_key, totals)
     root.set("tests", str(totals["tests"]))
     root.set("failures", str(totals["failures"]))
@@ -132,7 +132,7 @@ def _suite(root: ET.Element, name: str, sub: pd.DataFrame, stage: Stage,
             el = ET.SubElement(tc, "error", message=_safe(f"{len(internal)} of {len(rows)} calls: internal error "
                                                           "of the checker"), type="internal")
             el.text = _safe("; ".join(dict.fromkeys(str(r) for r in internal["reason"].fillna(""))))
-        rejected = int(((rows["status"] == "rejected") & (rows["stage"] == stage.value)).sum())
+        rejected = int(((rows["status"] == Status.REJECTED.value) & (rows["stage"] == stage.value)).sum())
         if rejected:
             ET.SubElement(tc, "system-out").text = f"{rejected} of {len(rows)} calls rejected (degenerate input)"
     ts.set("tests", str(n_tests))

@@ -27,7 +27,7 @@ import numpy as np
 import pandas as pd
 
 from ..config import NO_EPS, sphere_duplicate_policy
-from ..records import CONTRACT_REASON, Stage
+from ..records import CONTRACT_REASON, Stage, Status
 from .tables import failed_mask, stages
 
 __all__ = [
@@ -256,9 +256,9 @@ def failure_reasons(df: pd.DataFrame, stage: Stage = Stage.ALGORITHM, top: int =
 def _failure_kind(row: pd.Series) -> str:
     status = row["status"]
     reason = str(row.get("reason", "") or "")
-    if status == "error":
+    if status == Status.ERROR:
         return reason.split(":", 1)[0] or "error"
-    if status != "fail":
+    if status != Status.FAIL:
         return str(status)
     if reason.startswith(CONTRACT_REASON):
         return "output contract"

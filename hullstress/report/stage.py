@@ -37,6 +37,7 @@ from .tables import metamorphic_changes
 from .summary import TABLES, causes_frame, groups_table, summary_markdown, write_summary
 from .claim import markdown_table as _markdown
 from .writer import write_report
+from ..records import Origin
 
 __all__ = ["ReportFiles", "write_run_report"]
 
@@ -215,7 +216,7 @@ def _needs_registration(algorithm: str) -> bool:
         spec = ALGORITHMS.get(algorithm)
     except Exception:  # unknown here: keep the registration, to be safe
         return True
-    return spec.origin in ("plugin", "executable") or spec.clockwise
+    return spec.origin in (Origin.PLUGIN, Origin.EXECUTABLE) or spec.clockwise
 
 
 def _write_index(run_dir: Path, records: Sequence[FailureRecord], n_groups: int) -> Path:

@@ -21,6 +21,7 @@ from ..results import STATUSES
 from ..triage.grouping import FailureGroup, groups_frame
 from ..triage.records import Cause
 from .tables import failure_counts, status_counts
+from ..records import FAILED_STATUSES
 
 __all__ = ["TOP_CAUSES", "TABLES", "write_sweep_tables", "causes_frame", "groups_table", "summary_markdown",
            "write_summary", "cause_table_rows"]
@@ -134,7 +135,7 @@ def summary_markdown(
     n_cases = int(table["case_id"].nunique()) if len(table) else 0
     wall = (meta.get("timings") or {}).get("wall_seconds", 0) or 0
     counts = table["status"].value_counts() if len(table) else pd.Series(dtype=int)
-    failed = int(sum(counts.get(s, 0) for s in ("fail", "error", "timeout", "crash")))
+    failed = int(sum(counts.get(s, 0) for s in FAILED_STATUSES))
     lines = [f"# hullstress run {meta.get('run_id', '')}", "",
              f"Profile `{meta.get('profile')}`, seed {meta.get('seed')}: {len(table)} calls over {n_cases} cases, "
              f"sweep {float(wall):.1f} s; {state}.",
