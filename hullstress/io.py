@@ -43,6 +43,7 @@ from typing import Any
 import numpy as np
 
 from .errors import InputFileError
+from .literals import parse_float
 
 __all__ = [
     "POINT_FORMATS",
@@ -60,43 +61,10 @@ POINT_FORMATS = ("npy", "csv", "qhull", "off", "xyz")
 #: Formats accepted by :func:`write_faces`.
 FACE_FORMATS = ("npy", "csv", "qhull", "off")
 
-_HEX_RE = re.compile(r"^[+-]?0[xX]")
 _INT_RE = re.compile(r"^[+-]?\d+$")
 _SPLIT_RE = re.compile(r"[,\s;]+")
 #: Largest integer magnitude that converts to float64 without rounding.
 _EXACT_INT = 2**53
-
-
-def parse_float(token: str) -> float:
-    """Parse one decimal or hexadecimal float literal exactly.
-
-    Parameters
-    ----------
-    token : str
-        ``"0.1"``, ``"-1e-300"``, ``"4.9e-324"``, ``"0x1.8p-3"``, ``"-0x0p+0"``.
-
-    Returns
-    -------
-    float
-        The correctly rounded double (decimal) or the exact double (hex); a
-        literal beyond the largest double is ±inf in both notations.
-
-    Raises
-    ------
-    ValueError
-        When ``token`` is not a float literal.
-
-    Examples
-    --------
-    >>> parse_float("0x1.8p-3"), parse_float("1e-320") > 0
-    (0.1875, True)
-    """
-    if _HEX_RE.match(token):
-        try:
-            return float.fromhex(token)
-        except OverflowError:  # as float("1e999") does: too large is infinite (then refused as non-finite)
-            return -math.inf if token.startswith("-") else math.inf
-    return float(token)
 
 
 def _label(path: Path, what: str) -> str:

@@ -37,6 +37,7 @@ from typing import Any
 import numpy as np
 
 from .errors import ContractViolation
+from .literals import parse_float
 
 __all__ = ["HULL_FORMATS", "format_points", "parse_hull", "format_i", "format_fx", "chain_edges",
            "check_qhull_options"]
@@ -219,8 +220,6 @@ def _parse_fx(rows: list[tuple[int, str]], n_points: int) -> list[int]:
 
 
 def _parse_off(rows: list[tuple[int, str]], points: np.ndarray) -> Any:
-    from .io import parse_float
-
     n_points, dim = points.shape
     if not rows:
         raise ContractViolation("unreadable output: the program wrote nothing (expected an OFF header)")
