@@ -188,7 +188,8 @@ def _print_summary(the_run: Any, args: argparse.Namespace, *, quiet: bool) -> No
         shown = min(TOP_CAUSES, len(causes))
         print(_rule(f"short summary: top {shown} of {len(causes)} causes"))
         for rank, cause in enumerate(causes[:shown], start=1):
-            size = f"{cause.minimal_size} points" + ("" if cause.minimised else " (not shrunk)")
+            size = (f"{cause.minimal_size} point{'' if cause.minimal_size == 1 else 's'}"
+                    + ("" if cause.minimised else " (not shrunk)"))
             print(f"CAUSE {rank}: {cause.failures} failed in {len(cause.families)} "
                   f"famil{'y' if len(cause.families) == 1 else 'ies'}, {size}: {cause.headline}")
             if cause.slug in folders:
