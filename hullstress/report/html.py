@@ -24,6 +24,7 @@ from ..triage.grouping import FailureGroup
 from .failures import FailureRecord
 from .findings import Findings
 from ..records import Stage
+from .summary import TOP_CAUSES
 from .tables import failed_mask, failure_counts, status_counts
 
 __all__ = ["render_html", "png_data_uri", "rate_matrix"]
@@ -249,6 +250,14 @@ def render_html(
                f"(signature: config, stage, status, failed checks and severity, or exception and frame), merged "
                f"into {len(records)} causes (groups whose minimal cases coincide up to translation, power-of-two "
                "scaling, row and axis order).</p>")
+
+    out.append('<p class="meta">Jump to: <a href="#top-causes">top causes</a> &middot; <a href="#status">calls by '
+               'status</a> &middot; <a href="#rates">failure rates</a> &middot; <a href="#findings">findings</a> '
+               '&middot; <a href="#causes">every cause</a>' + (' &middot; <a href="#groups">failure groups</a>'
+                                                              if groups else "") + "</p>")
+    # What is broken comes first: a reader's first screen is the worst causes, as in summary.md.
+    out.append(f'<h2 id="top-causes">Top causes ({min(TOP_CAUSES, len(records))} of {len(records)})</h2>')
+    out.append(_causes_index(records[:TOP_CAUSES]) if records else "<p>No failures.</p>")
 
     out.append('<h2 id="status">Calls by status</h2>')
     totals = (table["status"].value_counts().reindex(list(STATUSES), fill_value=0) if len(table)
