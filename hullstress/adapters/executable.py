@@ -157,12 +157,6 @@ class ExecutableHull:
         name = "OFF" if self.output == "off" else f"Qhull {self.output}"
         return f"{self.command} ({name} output{', clockwise' if clockwise else ''})"
 
-    def exec_spec(self, name: str) -> str:
-        """The ``--exec`` value that registers this program again under ``name``."""
-        options = [] if self.dim == 3 else ["dim=2"]
-        options += [] if self.output == "i" else [f"output={self.output}"]
-        return f"{name}{'[' + ','.join(options) + ']' if options else ''}={self.command}"
-
     def __call__(self, points: Any) -> Any:
         return run_program(self, points)
 
