@@ -47,7 +47,7 @@ from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Protocol
 
 import pandas as pd
 
@@ -58,7 +58,7 @@ from .runner import ExecutionStats, Task
 from .qhull_format import check_qhull_options
 from .sweep import SweepOptions, build_tasks, run_sweep, sort_table
 
-__all__ = ["RunOptions", "Run", "Interrupted", "Plan", "plan", "run", "EXIT_FOR_SIGNAL"]
+__all__ = ["RunOptions", "Run", "Interrupted", "Plan", "plan", "run", "EXIT_FOR_SIGNAL", "Executor"]
 
 #: Exit status after an interrupt, by signal (the shell's 128 + signal number).
 EXIT_FOR_SIGNAL = {signal.SIGINT: int(ExitStatus.SIGINT), signal.SIGTERM: int(ExitStatus.SIGTERM)}
@@ -94,6 +94,8 @@ class RunOptions:
     last_failed : {None, "only", "first"}
         ``--last-failed``: run only the calls that failed in the latest run in
         ``out``; ``--failed-first``: run their cases first.
+    executor : Executor or None
+        The execute stage when it is not the sweep (``hullstress search``).
     """
 
     sweep: SweepOptions = field(default_factory=SweepOptions)
@@ -107,6 +109,7 @@ class RunOptions:
     pictures: bool = True
     registration: tuple[str, ...] = ()
     last_failed: str | None = None
+    executor: "Executor | None" = None
 
 
 @dataclass(frozen=True)
@@ -253,6 +256,23 @@ class _Signals:
                 signal.signal(s, h)
 
 
+class Executor(Protocol):
+    """An execute stage other than the sweep (:mod:`hullstress.search`): it makes the cases it runs.
+
+    Called with the generate stage's plan, it may run other cases than the
+    plan's: it rewrites ``plan.tasks`` and ``plan.cases`` to what it ran, each
+    case appended before its first row reaches ``on_row`` (so an interrupt
+    leaves a plan that lists every row's case), and returns the runner's
+    accounting (``budget_exhausted`` when a time budget cut it short).
+    """
+
+    def planned_calls(self, plan: "Plan") -> int:
+        """The calls it expects to make (the progress bar's total)."""
+
+    def __call__(self, plan: "Plan", on_row: Callable[[ResultRow], None]) -> ExecutionStats:
+        """Run, handing each row to ``on_row``."""
+
+
 def plan(options: SweepOptions, *, out: str | None = None, last_failed: str | None = None) -> Plan:
     """The generate stage: build every case and cross it with its dimension's configs.
 
@@ -287,7 +307,8 @@ def plan(options: SweepOptions, *, out: str | None = None, last_failed: str | No
 
 
 def _run_name(options: RunOptions) -> str:
-    return f"{time.strftime('%Y%m%d-%H%M%S')}-{options.sweep.profile}-seed{options.sweep.seed}"
+    kind = options.sweep.profile if options.executor is None else "search"
+    return f"{time.strftime('%Y%m%d-%H%M%S')}-{kind}-seed{options.sweep.seed}"
 
 
 def _refusal(exc: BaseException) -> str | None:
@@ -376,7 +397,8 @@ def run(
     rows: list[ResultRow] = []
     stream = RowStream(run_dir)
     log = OutputLog(run_dir)
-    bar = ProgressBar(the_plan.n_calls, enabled=progress)
+    total = the_plan.n_calls if options.executor is None else options.executor.planned_calls(the_plan)
+    bar = ProgressBar(total, enabled=progress)
     # Without a terminal (CI logs), a line per quarter of the sweep instead of the bar.
     quarters = PhaseProgress("sweep", "calls", live=False, enabled=echo is not None and not progress)
 
@@ -385,7 +407,7 @@ def run(
         stream(row)
         log(row)
         bar.update(row)
-        quarters(len(rows), the_plan.n_calls)
+        quarters(len(rows), total)
         if on_row is not None:
             on_row(row)
 
@@ -394,9 +416,13 @@ def run(
         # execute + check: the sweep.
         try:
             with signals.raising():
-                result = run_sweep(sweep, on_row=collect, tasks=the_plan.tasks)
-            the_run.table, the_run.stats = result.table, result.stats
-            the_run.complete = not result.stats.budget_exhausted
+                if options.executor is None:
+                    result = run_sweep(sweep, on_row=collect, tasks=the_plan.tasks)
+                    the_run.table, the_run.stats = result.table, result.stats
+                else:
+                    the_run.stats = options.executor(the_plan, collect)
+                    the_run.table = sort_table(to_frame(rows), [c.case_id for c in the_plan.cases])
+            the_run.complete = not the_run.stats.budget_exhausted
         except KeyboardInterrupt:
             the_run.complete = False
         except UsageError:

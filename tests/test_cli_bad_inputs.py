@@ -99,6 +99,8 @@ BAD_INPUTS = [
     ("shrink {square} --algorithm monotone-chain --timeout -1", U, "argument --timeout: must be a positive number"),
     ("fuzz --algorithm monotone-chain --max-examples 0", U, "argument --max-examples: must be at least 1, got '0'"),
     ("fuzz --algorithm monotone-chain --max-findings 0", U, "argument --max-findings: must be at least 1, got '0'"),
+    ("search --evaluations 0", U, "argument --evaluations: must be at least 1, got '0'"),
+    ("search --algorithm no-such-hull", U, "no-such-hull"),
     ("fuzz --algorithm monotone-chain --max-size 2", U, "argument --max-size: must be at least 4, got '2'"),
     ("fuzz --algorithm monotone-chain --shrink-budget -1", U, "argument --shrink-budget: must be 0 or more seconds"),
     ("fuzz --algorithm monotone-chain --timeout nan", U, "argument --timeout: must be a finite number, got 'nan'"),

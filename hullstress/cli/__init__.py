@@ -67,7 +67,7 @@ EXIT_STATUS_HELP = (
 
 #: Subcommand modules, in --help order.  Each defines ``add_parser(subparsers)``
 #: which registers the subcommand and sets ``handler(args) -> int`` as its default.
-SUBCOMMANDS = ("run", "reproduce", "replay", "list", "check", "shrink", "fuzz", "export", "findings")
+SUBCOMMANDS = ("run", "search", "reproduce", "replay", "list", "check", "shrink", "fuzz", "export", "findings")
 
 
 class _Parser(argparse.ArgumentParser):
