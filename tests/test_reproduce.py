@@ -91,6 +91,28 @@ def test_reproduce_exits_0_once_the_bug_is_fixed(folder, capsys):
         marker.unlink()
 
 
+def test_save_corpus_keeps_the_minimal_case_with_its_provenance_and_replays_it(folder, tmp_path, capsys):
+    from hullstress.corpus.replay import replay_corpus
+    from hullstress.corpus.store import load_entry
+
+    rec, _ = folder
+    corpus = tmp_path / "corpus"
+    assert main(["reproduce", str(rec.folder), "--save-corpus", str(corpus)]) == 1
+    assert "corpus: new entry: " in capsys.readouterr().out
+    [path] = sorted(corpus.glob("*.json"))
+    entry = load_entry(path)
+    assert np.array_equal(entry.case.points, rec.points)  # the minimal case, bit for bit
+    assert entry.provenance["signature"] == rec.signature.slug
+    assert entry.provenance["found_by"].startswith("hullstress reproduce ")
+    assert entry.expectations["test-reproduce-drop[sphere=off,eps=n/a]"].startswith("fail")
+    # Saving again adds nothing; replaying it finds the failure still failing.
+    assert main(["reproduce", str(rec.folder), "--save-corpus", str(corpus)]) == 1
+    assert "corpus: already there: " in capsys.readouterr().out
+    assert len(list(corpus.glob("*.json"))) == 1
+    result = replay_corpus(corpus, workers=0)
+    assert set(result.table["outcome"]) <= {"still-failing", "ok"}
+
+
 BAD = [
     (lambda tmp: tmp / "missing", "is not a folder"),
     (lambda tmp: tmp, "is not a failure folder (no case.json)"),

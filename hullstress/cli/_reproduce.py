@@ -6,9 +6,15 @@ config in an isolated worker with the recorded timeout, and prints the
 verdict, the failed checks and their witness: the offending points with
 their exact coordinates, the offending faces with their vertices.
 
+With ``--save-corpus DIR`` the folder's minimal case becomes a regression
+corpus entry (every config's current verdict recorded, as ``run
+--save-corpus`` records them): the way to keep one particular failure, say
+one that only ``search`` found.
+
 Exit status: 1 the config still fails on the case (the output says whether
 with the recorded signature or differently); 0 it passes or is rejected now
-(fixed); 2 not a failure folder, or its files cannot be read.
+(fixed); 2 not a failure folder, or its files cannot be read; 4 the corpus
+folder cannot be written (read-only, full disk).
 """
 
 from __future__ import annotations
@@ -33,7 +39,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
         help="re-run a failure folder's minimal case and print the verdict and its witness",
         description="Re-run the minimal case of a failure folder (reports/<run>/failures/<cause>/) in the same "
         "config, isolated, and print the verdict, the failed checks and the witness (offending indices and "
-        "coordinates). Exit status: 1 it still fails, 0 it passes now, 2 not a failure folder.",
+        "coordinates). Exit status: 1 it still fails, 0 it passes now, 2 not a failure folder, 4 --save-corpus "
+        "cannot be written.",
     )
     p.add_argument("folder", metavar="FOLDER", help="a failure folder (it holds case.json)")
     p.add_argument("--all", action="store_true",
@@ -42,6 +49,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
                    help="per-call timeout (default: the run's, as recorded in case.json)")
     p.add_argument("--plugin", action="append", default=[], metavar="MODULE_OR_FILE",
                    help="import a plug-in first, besides those case.json names (repeatable)")
+    p.add_argument("--save-corpus", default=None, metavar="DIR",
+                   help="add the minimal case to the regression corpus in DIR, every config's verdict recorded")
     p.set_defaults(handler=reproduce_command)
 
 
@@ -176,6 +185,10 @@ def reproduce_command(args: argparse.Namespace) -> int:
 
     folder = Path(args.folder)
     meta = _load_case_json(folder)
+    if args.save_corpus:
+        from ..files import writable_folder
+
+        writable_folder(args.save_corpus, "--save-corpus")  # before any work, as `run` checks it
     for spec in list(meta.get("plugins") or []) + list(args.plugin):
         load_plugin(spec)
     _register_recorded(list(meta.get("registration") or []))
@@ -194,4 +207,27 @@ def reproduce_command(args: argparse.Namespace) -> int:
             more, _, lines = _run(own, dim, sig, timeout)
             fails = fails or more
             print("\n".join(lines))
+    if args.save_corpus:
+        path, written = _save_to_corpus(args.save_corpus, folder, meta, points, timeout)
+        print(f"corpus: {'new entry' if written else 'already there'}: {path}")
     return 1 if fails else 0
+
+
+def _save_to_corpus(directory: str, folder: Path, meta: dict[str, Any], points: np.ndarray,
+                    timeout: float) -> tuple[Path, bool]:
+    """The folder's minimal case as a corpus entry; provenance names the folder, its run and its origin."""
+    from ..case import Case
+    from ..corpus.replay import add_to_corpus
+    from ..corpus.store import provenance_for
+
+    original = meta.get("original_case") or {}
+    families = meta.get("families") or {}
+    family = str(original.get("family") or (sorted(families)[0] if families else "reproduced"))
+    case = Case(points=np.asarray(points, dtype=np.float64), dim=int(meta["dim"]), family=family,
+                params=dict(original.get("params") or {}), seed=original.get("seed"), size=original.get("size"),
+                source=f"minimised from {original.get('case_id', '?')}")
+    provenance = provenance_for(
+        case, found_by=f"hullstress reproduce {folder.resolve()}", original_size=meta.get("original_size"),
+        extra={"signature": meta.get("cause"), "original_case_id": original.get("case_id")})
+    [(path, written)] = add_to_corpus(directory, [(case, provenance)], workers=1, timeout=timeout)
+    return path, written
