@@ -634,12 +634,15 @@ def _finish(points, pts, faces, verts, manifold, convex, contained, mags, notes,
             n_missing_extreme=len(missing),
             n_boundary_nonextreme=len(nonextreme if certified or not (reference and reference.ok) else on_boundary),
         )
-        if reference is not None and not (certified and not reference.ok):
-            # Agreement with the witness: the same extreme vertices (coordinates), and the
-            # volume within 10 DISTround times Qhull's area (+ 2**-40 relative).
+        if reference is not None and reference.ok:
+            # Agreement with the witness, judged only when the witness itself passes the
+            # exact checks (README, qhull_agreement: "qhull-wrong" is never charged): the
+            # same extreme vertices (coordinates), and the volume within 10 DISTround times
+            # Qhull's area.  Both volumes are exact, so the tolerance has no slack for
+            # float sums (checker/qhull.py, volume_tolerance).
             same_vertices = (vcoords & hull.extreme) == (reference.vertex_coords & hull.extreme)
             diff = abs(volume - reference.volume)
-            tol = Fraction(VOLUME_MULTIPLE) * dr * reference.surface_area + Fraction(2.0**-40) * abs(reference.volume)
+            tol = Fraction(VOLUME_MULTIPLE) * dr * reference.surface_area
             same_volume = diff <= tol
             agreement = same_vertices and same_volume
             if not same_volume:
@@ -670,14 +673,19 @@ def qhull_witness(points) -> ExactVerdict | None:
     """Qhull's hull (scipy, default options) judged by this module: the checker's witness.
 
     Qhull runs on the points scaled by a power of two into [0.5, 1) (exact; Qhull
-    overflows near the ends of the double range).  3D facets are oriented with the
-    exact side of the input's centroid.  None when Qhull raises (flat input).
+    overflows near the ends of the double range).  Where that scaling would round a
+    coordinate (one below 2**-1022 after it), Qhull runs on the raw points if their
+    magnitude is within [2**-400, 2**400] and on the rounded copy otherwise: Qhull's
+    faces are index sets, judged here against the exact input either way.  3D facets
+    are oriented with the exact side of the input's centroid.  None when Qhull raises
+    (flat input).
     """
     arr = np.asarray(points, dtype=np.float64)
     top = float(np.abs(arr).max())
     k = -math.frexp(top)[1] if top else 0
-    scaled = np.ldexp(arr, k)
-    if not np.array_equal(np.ldexp(scaled, -k), arr):
+    with np.errstate(under="ignore"):
+        scaled = np.ldexp(arr, k)
+    if not np.array_equal(np.ldexp(scaled, -k), arr) and 2.0**-400 <= top <= 2.0**400:
         scaled = arr
     try:
         hull = ConvexHull(scaled)
@@ -701,8 +709,203 @@ def exact_verdict(points, faces, *, qhull: bool = True) -> ExactVerdict:
     """The verdict on ``faces`` (2D: a vertex cycle; 3D: polygons) over ``points``, exactly.
 
     With ``qhull``, the Qhull agreement is judged against :func:`qhull_witness`.
+    Lower-dimensional input (exact affine rank below the dimension) is judged by
+    :func:`lowdim_verdict` (README, "Lower-dimensional input"), without Qhull.
     """
+    pts, _ = to_integers(points)
+    if affine_rank(sorted(set(pts))) < len(pts[0]):
+        return lowdim_verdict(points, faces)
     reference = qhull_witness(points) if qhull else None
     if len(points[0]) == 2:
         return verdict2(points, faces, reference)
     return verdict3(points, faces, reference)
+
+
+# --------------------------------------------------------------------------- lower-dimensional input
+#
+# README "Lower-dimensional input", decided the plain way: a point, a segment or a flat
+# polygon is the hull; identical coordinates are one point.  An answer is a vertex cycle
+# (2D, or one 3D face for a point or a segment; a 3D face and its reverse count as that
+# face) that walks around the hull: every extreme point, no point twice, and in between
+# only points on the hull edge, in order along it.  For a flat 3D input every face must be
+# a convex polygon of positive area in the plane, and the faces of each orientation (each
+# side) must cover the hull polygon exactly once: here, their areas sum to the polygon's
+# and no two of them overlap (separating-axis test on their edges), which for convex
+# faces inside the polygon is the same thing.
+
+
+def _param(p, origin, direction) -> int:
+    """Position along a line (an integer, increasing in ``direction``)."""
+    return dot(sub(p, origin), direction)
+
+
+def _walks_around(cycle: list[tuple[int, ...]], ring: list[tuple[int, ...]], turn2) -> bool:
+    """Whether ``cycle`` (distinct points holding every ``ring`` point) walks around the convex
+    polygon ``ring`` (counter-clockwise, >= 3 corners), in either direction, with every other
+    point strictly inside a ring edge and in order along it."""
+    pos = [cycle.index(q) for q in ring]
+    k = len(cycle)
+    for order in (pos, pos[::-1]):
+        rel = [(x - order[0]) % k for x in order]
+        if any(b <= a for a, b in zip(rel, rel[1:])):
+            continue
+        corners = ring if order is pos else ring[::-1]
+        rot = cycle[order[0]:] + cycle[:order[0]]
+        ok = True
+        for j, (start, end) in enumerate(zip(rel, rel[1:] + [k])):
+            a, b = corners[j], corners[(j + 1) % len(corners)]
+            between = rot[start + 1:end]
+            chain = [a] + between + [b]
+            if any(turn2(a, b, q) != 0 for q in between):
+                ok = False
+            elif any(dot(sub(y, x), sub(b, a)) <= 0 for x, y in zip(chain, chain[1:])):
+                ok = False
+        if ok:
+            return True
+    return False
+
+
+def _convex_overlap(p: list[tuple[int, int]], q: list[tuple[int, int]]) -> bool:
+    """Whether two convex counter-clockwise polygons have interiors that meet (separating axes)."""
+    for poly, other in ((p, q), (q, p)):
+        for a, b in zip(poly, poly[1:] + poly[:1]):
+            if all(turn(a, b, x) <= 0 for x in other):
+                return False
+    return True
+
+
+def lowdim_verdict(points, faces) -> ExactVerdict:
+    """The verdict on an answer for input of exact affine rank below its dimension."""
+    pts, shift = to_integers(points)
+    dr = distround(points) * Fraction(2) ** shift
+    dim = len(pts[0])
+    distinct = sorted(set(pts))
+    rank = affine_rank(distinct)
+    notes: list[str] = []
+    contained = convex = manifold = True
+    n_bad = 0
+    two_d = dim == 2 or rank < 2
+    if rank == 2:
+        n = next(normal(a, b, c) for a, b, c in combinations(distinct, 3) if not is_zero(normal(a, b, c)))
+        drop = max(range(3), key=lambda i: abs(n[i]))
+        keep = [i for i in range(3) if i != drop]
+        flat = {p: (p[keep[0]], p[keep[1]]) for p in distinct}
+        ring = [distinct[i] for i in hull2d([flat[p] for p in distinct])]
+        extreme = set(ring)
+    else:
+        origin = distinct[0]
+        direction = sub(distinct[-1], origin) if rank == 1 else tuple(0 for _ in origin)
+        ts = {p: _param(p, origin, direction) for p in distinct}
+        ends = [min(distinct, key=ts.get), max(distinct, key=ts.get)]
+        extreme = set(ends)
+    if dim == 2:
+        cycles = [[int(i) for i in faces]]
+    else:
+        cycles = [[int(i) for i in f] for f in faces]
+    used = {pts[i] for c in cycles for i in c}
+    missing = extreme - used
+    if missing or not used:
+        contained = False
+        notes.append("extreme point missing")
+
+    def walk_ok(cycle: list[tuple[int, ...]]) -> bool:
+        if rank == 0:
+            return True
+        a, b = ends
+        i = cycle.index(a)
+        rot = cycle[i:] + cycle[:i]
+        t = [ts[p] for p in rot]
+        j = rot.index(b)
+        return all(x < y for x, y in zip(t[:j], t[1:j + 1])) and all(x > y for x, y in zip(t[j:], t[j + 1:] + [t[0]]))
+
+    if two_d:
+        if dim == 3 and len(cycles) > 1:
+            two_sided = len(cycles) == 2 and _same_ring([pts[i] for i in cycles[0]], [pts[i] for i in cycles[1]][::-1])
+            if not two_sided:
+                manifold = False
+                notes.append(f"{len(cycles)} faces for a point or a segment")
+        cycle = [pts[i] for i in cycles[0]] if cycles else []
+        if len(set(cycle)) < len(cycle):
+            manifold = False
+            notes.append("a point twice")
+        elif cycle and not missing and not walk_ok(cycle):
+            convex = False
+            notes.append("not a walk along the segment")
+        n_faces = len(cycles) if dim == 3 else (len(cycles[0]) if len(cycles[0]) > 1 else 0)
+    else:
+        n_faces = len(cycles)
+        good = []
+        for c in cycles:
+            ring_c = [pts[i] for i in c]
+            poly = [flat[p] for p in ring_c]
+            if len(set(ring_c)) < len(ring_c):
+                manifold = False
+                n_bad += 1
+                notes.append("a face repeats a point")
+                continue
+            corners = hull2d(poly)
+            if len(corners) < 3:
+                convex = False
+                n_bad += 1
+                notes.append("a face of zero area")
+                continue
+            if not _walks_around(poly, [poly[i] for i in corners], turn):
+                convex = False
+                n_bad += 1
+                notes.append("a face that is not a convex polygon")
+                continue
+            area2 = sum(a[0] * b[1] - a[1] * b[0] for a, b in zip(poly, poly[1:] + poly[:1]))
+            good.append((1 if area2 > 0 else -1, [poly[i] for i in corners], abs(area2)))
+        if not n_bad and not missing:
+            fr = [flat[p] for p in ring]
+            hull_area2 = sum(a[0] * b[1] - a[1] * b[0] for a, b in zip(fr, fr[1:] + fr[:1]))
+            for side in (1, -1):
+                mine = [(corners, area) for s, corners, area in good if s == side]
+                if not mine:
+                    continue
+                overlap = any(_convex_overlap(p, q) for (p, _), (q, _) in combinations(mine, 2))
+                if overlap or sum(area for _, area in mine) != hull_area2:
+                    manifold = False
+                    notes.append(f"side {side}: " + ("faces overlap" if overlap else "a hole"))
+    mags = {}
+    if missing and used:
+        # How far the hull reaches beyond the answer: a missing extreme point's distance
+        # to the nearest point the answer uses (the README's "how far").
+        far = max(min(dot(sub(m, u), sub(m, u)) for u in used) for m in missing)
+        mags["outside"] = _sqrt_ratio(Fraction(far), dr)
+    elif missing:
+        mags["outside"] = math.inf
+    n_outside = 0
+    if missing:
+        if rank <= 1:
+            lo, hi = (min(ts[p] for p in used), max(ts[p] for p in used)) if used else (1, 0)
+            n_outside = sum(1 for p in pts if not lo <= ts[p] <= hi)
+        else:
+            sub_ring = [q for q in hull2d([flat[p] for p in sorted(used)])]
+            uring = [flat[p] for p in [sorted(used)[i] for i in sub_ring]]
+            if len(uring) < 3:
+                n_outside = len(pts)  # (not reached by the corpus: a flat answer of one segment)
+            else:
+                n_outside = sum(1 for p in pts if any(turn(a, b, flat[p]) < 0 for a, b in zip(uring, uring[1:] + uring[:1])))
+    failed = not (contained and convex and manifold)
+    worst = max(mags.values(), default=0.0)
+    severity = "none" if not failed else ("gross" if not manifold or worst > ROUNDOFF else "roundoff")
+    if failed and manifold and 0.5 * ROUNDOFF < worst < 2 * ROUNDOFF:
+        notes.append("severity within a factor 2 of the roundoff threshold")
+    counts = {
+        "affine_rank": rank,
+        "n_outside": n_outside,
+        "n_degenerate_faces": n_bad,
+        "n_extreme": len(extreme),
+        "n_missing_extreme": len(missing),
+        "n_hull_vertices": len(used),
+        "n_boundary_nonextreme": len(used) - len(extreme - missing),
+        "n_faces": n_faces,
+    }
+    return ExactVerdict(contained, convex, manifold, None, severity, mags, counts, notes, qhull_ok=None)
+
+
+def _same_ring(a: list, b: list) -> bool:
+    if len(a) != len(b):
+        return False
+    return any(a[i:] + a[:i] == b for i in range(len(a))) if a else True

@@ -29,8 +29,8 @@ __all__ = ["ROUNDOFF_MULTIPLE", "VOLUME_TOLERANCE_MULTIPLE", "severity", "relati
 
 #: Violations up to this many DISTround are ``roundoff``, beyond are ``gross``.
 ROUNDOFF_MULTIPLE = 10.0
-#: Qhull volume agreement: |V - V_qhull| <= this * DISTround * Qhull's surface area
-#: (+ 2**-40 relative for the float volume sums).
+#: Qhull volume agreement: |V - V_qhull| <= this * DISTround * Qhull's surface area,
+#: compared exactly (:func:`.measure.compare`), so with no slack for float sums.
 VOLUME_TOLERANCE_MULTIPLE = 10.0
 
 
