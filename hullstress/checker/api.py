@@ -222,13 +222,19 @@ def check(
     (False, ('containment', 'qhull_agreement'), (2,))
     """
     pts = validate_points(points)
+    n, dim = pts.shape
+    if reference is None and qhull:
+        # Built first: its witness simplex settles the rank exactly, so the
+        # degeneracy test below needs no certificate of its own.
+        built = qhull_reference(pts)
+        if built.simplex is not None and len(built.simplex) - 1 >= dim:
+            reference = built
     lower = verdict_if_degenerate(pts, faces, reference=reference, max_offending=max_offending)
     if lower is not None:  # a point, a segment or a flat polygon: README "Lower-dimensional input"
         return lower
-    n, dim = pts.shape
     normalised = _normalise(faces, n, dim)
     if reference is None and qhull:
-        reference = qhull_reference(pts)
+        reference = built
     if reference is not None and (reference.n_points != n or reference.dim != dim):
         raise ValueError(
             f"reference was computed for {reference.n_points} points in {reference.dim}D, got {n} points in {dim}D"
