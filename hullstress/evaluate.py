@@ -301,15 +301,7 @@ def _faces_key(faces: np.ndarray | FaceSet) -> bytes:
 
 
 def _verdict(points: np.ndarray, faces: np.ndarray | FaceSet, facts: CaseFacts) -> Verdict:
-    """The exact verdict on ``faces`` as a hull of ``points``, computed once per distinct output (see above).
-
-    Raises
-    ------
-    ContractViolation
-        A face of fewer than three vertices where the input's rank asks for a surface.
-    Exception
-        Anything else is a checker bug.
-    """
+    """:func:`_fresh_verdict`, computed once per distinct output (see above); raises as it does."""
     key = (points_digest(points), _faces_key(faces))
     hit = _VERDICTS.get(key)
     if hit is not None and hit[0]() is facts:
