@@ -247,11 +247,9 @@ def check(
         raise ValueError("reference was computed for other points (same shape, different coordinates)")
     else:
         scaled, k = exact_scale(pts)
-    if reference is not None and reference.simplex is not None:
-        simplex = reference.simplex
-    else:
-        simplex = witness_simplex(scaled)
-    rank = len(simplex) - 1
+    # verdict_if_degenerate settled the rank exactly (from the reference's witness
+    # simplex or its own certificate): past it, the points are full-dimensional.
+    rank = dim
     if reuse_reference and reference is not None and reference.qhull_ok and reference.same_faces(normalised):
         # The same faces over the same points: the verdict is a function of the reference alone.
         if "own verdict" not in reference.memo:
