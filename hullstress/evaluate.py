@@ -30,6 +30,7 @@ Every row names the stage that produced its verdict
 
 from __future__ import annotations
 
+import hashlib
 import time
 import warnings
 import weakref
@@ -293,11 +294,22 @@ _VERDICTS_SIZE = 256
 
 
 def _faces_key(faces: np.ndarray | FaceSet) -> bytes:
-    """The exact content of an output (kind, shape, dtype, indices): equal keys, equal outputs."""
+    """SHA-256 of an output's exact content (kind, shape, dtype, indices), like :func:`~hullstress.case.points_digest`.
+
+    A digest, not the content: a worker keeps hundreds of keys, and a wrong
+    hull of a large case can have millions of indices.
+    """
+    h = hashlib.sha256()
     if isinstance(faces, FaceSet):
-        return b"F" + faces.offsets.tobytes() + b"|" + faces.indices.tobytes()
-    arr = np.ascontiguousarray(faces)
-    return f"A{arr.dtype.str}{arr.shape}".encode() + arr.tobytes()
+        h.update(b"F")
+        h.update(np.ascontiguousarray(faces.offsets).tobytes())
+        h.update(b"|")
+        h.update(np.ascontiguousarray(faces.indices).tobytes())
+    else:
+        arr = np.ascontiguousarray(faces)
+        h.update(f"A{arr.dtype.str}{arr.shape}".encode())
+        h.update(arr.tobytes())
+    return h.digest()
 
 
 def _verdict(points: np.ndarray, faces: np.ndarray | FaceSet, facts: CaseFacts) -> Verdict:
