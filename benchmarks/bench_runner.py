@@ -29,7 +29,15 @@ Columns:
   checks, ``wall - busy / workers`` (messaging, result handling, worker
   restarts, idle workers at the end);
 * ``per call``: that overhead divided by the number of calls;
-* ``speed-up``: the 1-worker wall time divided by this one.
+* ``parent CPU per call``: CPU time of this (the parent) process during the
+  run, per call: messaging and result handling, which competes with the
+  workers for the cores (CPU time, so it holds on a loaded machine);
+* ``speed-up``: the 1-worker wall time divided by this one;
+* ``algorithms alone``: the calls per second the algorithms' own time allows
+  on that many workers (``calls / (algorithms s / workers)``), i.e. with the
+  checks and the harness free: no harness change can go beyond it.
+
+A second table splits the last run's busy time by algorithm.
 """
 
 from __future__ import annotations
@@ -44,6 +52,7 @@ import time
 from pathlib import Path
 
 from hullstress.plugins import load_plugin
+from hullstress.results import ResultRow
 from hullstress.runner import ExecutionStats, RunnerOptions, Task, execute
 from hullstress.sweep import SweepOptions, build_tasks
 
@@ -64,20 +73,39 @@ def _warm_up(tasks: list[Task]) -> float:
     return time.perf_counter() - start
 
 
-def _best_run(tasks: list[Task], options: RunnerOptions, repeat: int) -> tuple[ExecutionStats, int]:
-    best: ExecutionStats | None = None
-    rows = 0
+def _best_run(tasks: list[Task], options: RunnerOptions, repeat: int) -> tuple[ExecutionStats, int, float, dict]:
+    """The fastest of ``repeat`` runs: its stats, its row count, the parent's CPU seconds in it,
+    and per algorithm ``[calls, algorithm seconds, check seconds]``."""
+    best: tuple[ExecutionStats, int, float, dict] | None = None
     for _ in range(repeat):
-        count = [0]
+        per_algorithm: dict[str, list[float]] = {}
 
-        def on_row(row: object) -> None:
-            count[0] += 1
+        def on_row(row: ResultRow) -> None:
+            tally = per_algorithm.setdefault(str(row["algorithm"]), [0, 0.0, 0.0])
+            tally[0] += 1
+            tally[1] += float(row["seconds"] or 0.0)
+            tally[2] += float(row["check_seconds"] or 0.0)
 
+        cpu = time.process_time()
         stats = execute(tasks, options, on_row)
-        if best is None or stats.wall_seconds < best.wall_seconds:
-            best, rows = stats, count[0]
+        cpu = time.process_time() - cpu
+        if best is None or stats.wall_seconds < best[0].wall_seconds:
+            best = (stats, sum(int(t[0]) for t in per_algorithm.values()), cpu, per_algorithm)
     assert best is not None
-    return best, rows
+    return best
+
+
+def _by_algorithm(per_algorithm: dict[str, list[float]], top: int = 8) -> None:
+    """Where the busy time of a run goes: the algorithms with the most time (call + check), per call."""
+    total = sum(t[1] + t[2] for t in per_algorithm.values()) or 1.0
+    ranked = sorted(per_algorithm.items(), key=lambda kv: -(kv[1][1] + kv[1][2]))
+    print(f"Busy time by algorithm (the {min(top, len(ranked))} largest of {len(ranked)}), last run above:\n")
+    print("| algorithm | calls | algorithm ms per call | check ms per call | share of busy time |")
+    print("| --- | ---: | ---: | ---: | ---: |")
+    for name, (calls, alg, chk) in ranked[:top]:
+        print(f"| {name} | {int(calls)} | {1000 * alg / calls:.2f} | {1000 * chk / calls:.2f} | "
+              f"{100 * (alg + chk) / total:.1f} % |")
+    print()
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -165,28 +193,33 @@ def _sweep_table(args: argparse.Namespace) -> None:
     warm = _warm_up(tasks)
     base = sweep.runner_options()
 
-    results: list[tuple[int, ExecutionStats, int]] = []
+    results: list[tuple[int, ExecutionStats, int, float]] = []
     for workers in args.workers:
         options = RunnerOptions(workers=workers, timeout=base.timeout, qhull=base.qhull,
                                 memory_limit_mb=base.memory_limit_mb)
-        stats, rows = _best_run(tasks, options, args.repeat)
+        stats, rows, parent_cpu, per_algorithm = _best_run(tasks, options, args.repeat)
         if rows != n_calls:
             print(f"warning: {workers} workers delivered {rows} of {n_calls} rows", file=sys.stderr)
-        results.append((workers, stats, rows))
+        results.append((workers, stats, rows, parent_cpu))
 
     print(f"## The sweep alone: profile `{args.profile}`, seed {args.seed}\n")
     print(f"{len(tasks)} cases, {n_calls} calls; {os.cpu_count()} CPUs; cases built in {build_seconds:.2f} s; "
           f"fork server warm-up {warm:.2f} s (once per process, not in the table).\n")
-    print("| workers | wall s | busy s | overhead s | overhead % | per call | restarts | speed-up |")
-    print("|---:|---:|---:|---:|---:|---:|---:|---:|")
-    wall_1 = next((s.wall_seconds for w, s, _ in results if w == 1), results[0][1].wall_seconds)
-    for workers, stats, rows in results:
-        busy = stats.algorithm_seconds + stats.check_seconds + stats.facts_seconds
+    print("| workers | wall s | calls/s | algorithms s | checks s | facts s | overhead s | overhead % | per call "
+          "| parent CPU per call | restarts | speed-up | algorithms alone |")
+    print("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+    wall_1 = next((s.wall_seconds for w, s, _, _ in results if w == 1), results[0][1].wall_seconds)
+    for workers, stats, rows, parent_cpu in results:
         per_call_ms = 1000 * stats.harness_overhead_seconds / max(1, rows)
-        print(f"| {workers} | {stats.wall_seconds:.2f} | {busy:.2f} | {stats.harness_overhead_seconds:.2f} | "
-              f"{100 * stats.harness_overhead_fraction:.1f} | {per_call_ms:.2f} ms | {stats.worker_restarts} | "
-              f"{wall_1 / stats.wall_seconds:.2f}x |")
+        # The calls per second the algorithms alone allow on these workers (checks and harness free).
+        ceiling = rows / (stats.algorithm_seconds / stats.workers) if stats.algorithm_seconds else float("inf")
+        print(f"| {workers} | {stats.wall_seconds:.2f} | {rows / stats.wall_seconds:.0f} | "
+              f"{stats.algorithm_seconds:.2f} | {stats.check_seconds:.2f} | {stats.facts_seconds:.2f} | "
+              f"{stats.harness_overhead_seconds:.2f} | {100 * stats.harness_overhead_fraction:.1f} | "
+              f"{per_call_ms:.2f} ms | {1000 * parent_cpu / max(1, rows):.3f} ms | {stats.worker_restarts} | "
+              f"{wall_1 / stats.wall_seconds:.2f}x | {ceiling:.0f} calls/s |")
     print()
+    _by_algorithm(per_algorithm)
 
 
 if __name__ == "__main__":

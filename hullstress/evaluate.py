@@ -30,8 +30,10 @@ Every row names the stage that produced its verdict
 
 from __future__ import annotations
 
+import hashlib
 import time
 import warnings
+import weakref
 from collections import OrderedDict
 from dataclasses import dataclass, replace
 from typing import Any
@@ -282,7 +284,56 @@ class _Judged(Exception):
         self.status, self.stage, self.reason, self.check_seconds = status, stage, reason, check_seconds
 
 
+# Many configs of one case return the same output (eps scaled and fixed, a variant
+# and its base algorithm, sphere on and off on a sphere already): the verdict is a
+# function of the points, the (canonical) faces and the case facts, so each
+# distinct output is judged once.  Keyed by content; the facts must be the very
+# object the verdict was computed with (held weakly: the cache keeps no case alive).
+_VERDICTS: OrderedDict[tuple[str, bytes], tuple[weakref.ref, Verdict]] = OrderedDict()
+_VERDICTS_SIZE = 256
+
+
+def _faces_key(faces: np.ndarray | FaceSet) -> bytes:
+    """SHA-256 of an output's exact content (kind, shape, dtype, indices), like :func:`~hullstress.case.points_digest`.
+
+    A digest, not the content: a worker keeps hundreds of keys, and a wrong
+    hull of a large case can have millions of indices.
+    """
+    h = hashlib.sha256()
+    if isinstance(faces, FaceSet):
+        h.update(b"F")
+        h.update(np.ascontiguousarray(faces.offsets).tobytes())
+        h.update(b"|")
+        h.update(np.ascontiguousarray(faces.indices).tobytes())
+    else:
+        arr = np.ascontiguousarray(faces)
+        h.update(f"A{arr.dtype.str}{arr.shape}".encode())
+        h.update(arr.tobytes())
+    return h.digest()
+
+
 def _verdict(points: np.ndarray, faces: np.ndarray | FaceSet, facts: CaseFacts) -> Verdict:
+    """:func:`_fresh_verdict`, computed once per distinct output (see above); raises as it does."""
+    key = (points_digest(points), _faces_key(faces))
+    hit = _VERDICTS.get(key)
+    if hit is not None and hit[0]() is facts:
+        _VERDICTS.move_to_end(key)
+        return _copy(hit[1])
+    verdict = _fresh_verdict(points, faces, facts)
+    _VERDICTS[key] = (weakref.ref(facts), verdict)
+    while len(_VERDICTS) > _VERDICTS_SIZE:
+        _VERDICTS.popitem(last=False)
+    return _copy(verdict)
+
+
+def _copy(verdict: Verdict) -> Verdict:
+    """A shallow copy of a (frozen) verdict with its own ``offending`` dict: the cached one stays as it was."""
+    out = object.__new__(Verdict)
+    out.__dict__.update(verdict.__dict__, offending=dict(verdict.offending))
+    return out
+
+
+def _fresh_verdict(points: np.ndarray, faces: np.ndarray | FaceSet, facts: CaseFacts) -> Verdict:
     """The exact verdict on ``faces`` as a hull of ``points`` (lower-dimensional or full).
 
     Raises

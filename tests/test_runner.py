@@ -252,6 +252,19 @@ def test_each_misbehaviour_is_recorded_and_the_sweep_completes(plugin):
     assert stats.backend == "local" and stats.workers == 2
 
 
+@pytest.mark.parametrize("bad", ["segfault", "hang"])
+def test_a_death_mid_task_costs_only_the_call_that_caused_it(plugin, bad):
+    # Rows travel with the next call's start in one message: the rows before the
+    # death must be kept (not re-run), the death must name its own call, and the
+    # rest of the task must run once, in a fresh worker.
+    names = ["ok", "raise", bad, "pid"]
+    table, stats = _run(_tasks(_cases(1), names), workers=1, timeout=1.0, qhull=False)
+    status = dict(zip((a[len(P):] for a in table["algorithm"]), table["status"]))
+    assert status == {"ok": "pass", "raise": "error", bad: BAD_STATUS[bad], "pid": "error"}
+    assert stats.calls_started == stats.calls_done == len(names)  # nothing ran twice
+    assert stats.worker_restarts == 1
+
+
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="RLIMIT_AS is enforced on Linux")
 def test_a_runaway_allocation_hits_the_worker_memory_limit(plugin):
     # Touching memory is slow on a shared machine (about 0.5 GB/s): a 1 GiB
@@ -504,3 +517,24 @@ def test_a_killed_run_leaves_a_readable_partial_table_and_no_workers(plugin, tmp
     while time.monotonic() < deadline and any(alive(p) for p in workers):
         time.sleep(0.1)
     assert not any(alive(p) for p in workers)
+
+
+# -- call output ----------------------------------------------------------------
+
+
+def test_call_output_is_captured_per_call_even_after_a_call_closed_stdout():
+    from hullstress.runner._protocol import captured_output
+
+    with captured_output() as first:
+        print("first call")
+        sys.stdout.close()  # the code under test closes the stream it was given
+    with captured_output() as second:
+        print("second call")
+        os.write(2, b"QH7088 from C, run-id 42\n")
+    with captured_output() as quiet:
+        pass
+    assert first == ["first call"]
+    # Python's buffered text and C's direct write may interleave either way.
+    assert sorted(second[0].splitlines()) == ["QH7088 from C, run-id <n>", "second call"]
+    assert quiet == [""]
+    print("the terminal's own stream still works")

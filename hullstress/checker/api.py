@@ -222,13 +222,19 @@ def check(
     (False, ('containment', 'qhull_agreement'), (2,))
     """
     pts = validate_points(points)
+    n, dim = pts.shape
+    if reference is None and qhull:
+        # Built first: its witness simplex settles the rank exactly, so the
+        # degeneracy test below needs no certificate of its own.
+        built = qhull_reference(pts)
+        if built.simplex is not None and len(built.simplex) - 1 >= dim:
+            reference = built
     lower = verdict_if_degenerate(pts, faces, reference=reference, max_offending=max_offending)
     if lower is not None:  # a point, a segment or a flat polygon: README "Lower-dimensional input"
         return lower
-    n, dim = pts.shape
     normalised = _normalise(faces, n, dim)
     if reference is None and qhull:
-        reference = qhull_reference(pts)
+        reference = built
     if reference is not None and (reference.n_points != n or reference.dim != dim):
         raise ValueError(
             f"reference was computed for {reference.n_points} points in {reference.dim}D, got {n} points in {dim}D"
@@ -241,11 +247,9 @@ def check(
         raise ValueError("reference was computed for other points (same shape, different coordinates)")
     else:
         scaled, k = exact_scale(pts)
-    if reference is not None and reference.simplex is not None:
-        simplex = reference.simplex
-    else:
-        simplex = witness_simplex(scaled)
-    rank = len(simplex) - 1
+    # verdict_if_degenerate settled the rank exactly (from the reference's witness
+    # simplex or its own certificate): past it, the points are full-dimensional.
+    rank = dim
     if reuse_reference and reference is not None and reference.qhull_ok and reference.same_faces(normalised):
         # The same faces over the same points: the verdict is a function of the reference alone.
         if "own verdict" not in reference.memo:

@@ -35,9 +35,11 @@ Messages and their meaning are in :mod:`hullstress.runner._protocol`.
 
 from __future__ import annotations
 
+import math
 import multiprocessing
 import os
 import pickle
+import select
 import threading
 import time
 from collections import deque
@@ -64,6 +66,7 @@ PREFETCH_DEPTH = 2
 #: A task whose worker dies this often outside any call is given up on.
 MAX_DEATHS_OUTSIDE_CALLS = 2
 
+_HAVE_POLL = hasattr(select, "poll")
 _PRELOAD = ["hullstress.runner._preload", "__main__"]
 _context_lock = threading.Lock()
 _context: Any = None
@@ -201,6 +204,23 @@ class PendingJob:
     @property
     def finished(self) -> bool:
         return self.start_at >= len(self.task.configs)
+
+
+def _ready(fds: list[int], timeout: float) -> set[int]:
+    """The descriptors of ``fds`` that are readable or closed, after waiting at most ``timeout`` seconds.
+
+    ``poll(2)`` with a fresh poller: the parent waits once or twice per call,
+    and ``multiprocessing.connection.wait`` (and ``Connection.poll``, which
+    goes through it) builds a Python selector each time, most of the parent's
+    own time per call.  Where ``poll`` is missing, that portable wait.
+    """
+    if not _HAVE_POLL:
+        return set(wait(fds, timeout))
+    poller = select.poll()
+    for fd in fds:
+        poller.register(fd, select.POLLIN)
+    # Rounded up: waking before the deadline would only spin.
+    return {fd for fd, _ in poller.poll(math.ceil(timeout * 1000) if timeout > 0 else 0)}
 
 
 class _Slot:
@@ -353,16 +373,15 @@ class WorkerPool:
                 return
             now = time.monotonic()
             next_deadline = min(s.t0 + self._limit(s, settings) for s in busy)
-            waitables: dict[Any, _Slot] = {}
+            ready = _ready([fd for s in busy for fd in (s.conn.fileno(), s.proc.sentinel)],
+                           max(0.0, next_deadline - now))
             for s in busy:
-                waitables[s.conn] = s
-                waitables[s.proc.sentinel] = s
-            ready = wait(list(waitables), timeout=max(0.0, next_deadline - now))
-            dead = {id(waitables[r]) for r in ready if not isinstance(r, Connection)}
-            for s in dict.fromkeys(waitables[r] for r in ready):
+                message, dead = s.conn.fileno() in ready, s.proc.sentinel in ready
+                if not (message or dead):
+                    continue
                 # Read everything the worker sent before looking at how it ended:
                 # the last "start" names the call that was running when it died.
-                if not self._drain(s, settings, on_row, stats) or id(s) in dead:
+                if not self._drain(s, settings, on_row, stats) or dead:
                     self._on_death(s, queue, settings, on_row, stats, kill_reason=None)
             now = time.monotonic()
             for s in busy:
@@ -432,8 +451,12 @@ class WorkerPool:
         conn = slot.conn
         assert conn is not None
         try:
-            while conn.poll():
-                self._handle(slot, conn.recv(), settings, on_row, stats)
+            while conn.fileno() in _ready([conn.fileno()], 0.0):
+                batch = conn.recv()  # a list: a row and the next call's start arrive together
+                if not isinstance(batch, list):
+                    raise pickle.UnpicklingError(f"unexpected worker message {type(batch).__name__}")
+                for msg in batch:
+                    self._handle(slot, msg, settings, on_row, stats)
         except (EOFError, OSError, pickle.UnpicklingError):
             return False
         return True

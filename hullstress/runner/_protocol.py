@@ -20,7 +20,10 @@ rows are identical by construction.  Messages (tuples, first item the kind):
     the task is finished.
 
 ``time.monotonic()`` is system-wide on Linux and macOS, so the parent can
-compare a worker's timestamps with its own clock.
+compare a worker's timestamps with its own clock.  An isolated worker sends
+the messages in lists, a ``row`` (or ``facts``) with the ``start`` that
+follows it (:data:`hullstress.runner._worker.DEFERRED_MESSAGES`): one pipe
+write per call fewer, the same information at the same moments.
 
 Each call's own output (a library's warnings and messages on stdout or
 stderr, at the file-descriptor level, so C code's too; an executable's
@@ -267,17 +270,45 @@ def _alarm(seconds: float | None) -> Iterator[None]:
         signal.signal(signal.SIGALRM, previous)
 
 
-_capture_file: Any = None
+class _Capture:
+    """What every captured call reuses: the capture file, Python's streams on fds 1 and 2, C's fflush.
+
+    Set up once per process (a worker captures thousands of calls; opening
+    them per call cost more than a small algorithm call).
+    """
+
+    def __init__(self) -> None:
+        import atexit
+        import tempfile
+
+        self.file = tempfile.TemporaryFile()
+        atexit.register(self.file.close)
+        self.streams: list[Any] = [None, None]
+        self.fflush: Any = None
+        try:
+            import ctypes
+
+            self.fflush = ctypes.CDLL(None).fflush
+        except (OSError, AttributeError):
+            pass
+
+    def ours(self) -> list[Any]:
+        """Text streams writing to fds 1 and 2 (reopened if the code under test closed one)."""
+        for i, fd in enumerate((1, 2)):
+            if self.streams[i] is None or self.streams[i].closed:
+                self.streams[i] = open(fd, "w", encoding="utf-8", errors="replace", closefd=False)
+        return self.streams
+
+    def flush_c_stdio(self) -> None:
+        """Flush C's stdio buffers, so what a C library printf'd lands in the capture, not later on the terminal."""
+        if self.fflush is not None:
+            try:
+                self.fflush(None)
+            except (OSError, AttributeError):
+                pass
 
 
-def _flush_c_stdio() -> None:
-    """Flush C's stdio buffers, so what a C library printf'd lands in the capture, not later on the terminal."""
-    try:
-        import ctypes
-
-        ctypes.CDLL(None).fflush(None)
-    except (OSError, AttributeError):
-        pass
+_capture: _Capture | None = None
 
 
 @contextmanager
@@ -296,15 +327,10 @@ def captured_output() -> Iterator[list[str]]:
     >>> out
     ['QH7088 warning, run-id <n>']
     """
-    global _capture_file
-    import tempfile
-
-    if _capture_file is None:
-        _capture_file = tempfile.TemporaryFile()
-        import atexit
-
-        atexit.register(_capture_file.close)
-    capture = _capture_file
+    global _capture
+    if _capture is None:
+        _capture = _Capture()
+    capture = _capture.file
     result: list[str] = []
     for stream in (sys.stdout, sys.stderr):
         try:
@@ -316,7 +342,7 @@ def captured_output() -> Iterator[list[str]]:
     saved = [os.dup(1), os.dup(2)]
     # sys.stdout may not write to fd 1 (pytest's capture, a notebook): point Python's streams there too.
     saved_streams = (sys.stdout, sys.stderr)
-    ours = [open(fd, "w", encoding="utf-8", errors="replace", closefd=False) for fd in (1, 2)]
+    ours = _capture.ours()
     try:
         os.dup2(capture.fileno(), 1)
         os.dup2(capture.fileno(), 2)
@@ -328,18 +354,18 @@ def captured_output() -> Iterator[list[str]]:
                 stream.flush()
             except (AttributeError, ValueError, OSError):
                 pass
-        for stream in ours:
-            stream.close()  # closefd=False: the descriptors stay
         sys.stdout, sys.stderr = saved_streams
-        _flush_c_stdio()
+        _capture.flush_c_stdio()
         os.dup2(saved[0], 1)
         os.dup2(saved[1], 2)
         for fd in saved:
             os.close(fd)
         size = capture.seek(0, os.SEEK_END)
-        capture.seek(max(0, size - 4 * CALL_OUTPUT_CHARS))
-        text = capture.read().decode("utf-8", errors="replace").strip()
-        result.append(_RUN_ID.sub("run-id <n>", text)[-CALL_OUTPUT_CHARS:])
+        text = ""
+        if size:
+            capture.seek(max(0, size - 4 * CALL_OUTPUT_CHARS))
+            text = capture.read().decode("utf-8", errors="replace").strip()
+        result.append(_RUN_ID.sub("run-id <n>", text)[-CALL_OUTPUT_CHARS:] if text else "")
 
 
 def _with_output(row: ResultRow, output: list[str]) -> ResultRow:

@@ -23,7 +23,15 @@ import signal
 import sys
 from multiprocessing.connection import Connection
 
-__all__ = ["worker_main", "THREAD_ENV"]
+__all__ = ["worker_main", "THREAD_ENV", "DEFERRED_MESSAGES"]
+
+#: Messages a worker holds back until the next one, and sends with it in one pipe
+#: write: a row (or the case facts) and the start of the next call travel together.
+#: Only a few lines of trusted harness code run between such a message and the
+#: next one; every message that precedes untrusted or long work (``start``,
+#: ``called``, ``facts-start``) and the end of a task (``done``, ``stopped``) is
+#: sent at once, so the parent always knows which call a dead or hung worker was in.
+DEFERRED_MESSAGES = frozenset({"row", "facts"})
 
 #: Environment that keeps numerical libraries single-threaded inside a worker.
 THREAD_ENV = {
@@ -71,7 +79,8 @@ def worker_main(conn: Connection, limit_bytes: int | None) -> None:
     ----------
     conn : multiprocessing.connection.Connection
         Receives pickled :class:`~hullstress.runner._protocol.Job` objects (or
-        None to stop); protocol messages go back on it.
+        None to stop); protocol messages go back on it, as lists (see
+        :data:`DEFERRED_MESSAGES`).
     limit_bytes : int or None
         Address-space limit for this process.
     """
@@ -98,7 +107,11 @@ def worker_main(conn: Connection, limit_bytes: int | None) -> None:
                 problems[ref.name] = ensure_algorithm(ref)
         known = {name: why for name, why in problems.items() if why is not None}
         try:
+            held: list[tuple] = []
             for message in run_job(job, known):
-                conn.send(message)
+                held.append(message)
+                if message[0] not in DEFERRED_MESSAGES:
+                    conn.send(held)
+                    held = []
         except (BrokenPipeError, ConnectionResetError):
             return
