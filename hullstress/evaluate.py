@@ -44,7 +44,7 @@ from .case import Case, points_digest
 from .config import NO_EPS, AlgorithmConfig, sphere_duplicate_policy
 from .contract import FaceSet, canonical_output, normalize_output, require_face_size, reverse_orientation
 from .errors import CodeCrashed, ContractViolation, code_frame, one_line
-from .records import CONTRACT_REASON, METHOD_REASON, Stage
+from .records import CONTRACT_REASON, METHOD_REASON, Sphere, Stage, Status
 from .results import ResultRow, make_row
 from .tolerance import tolerance
 from .verdict import Verdict
@@ -198,7 +198,7 @@ def _preprocess(case: Case, config: AlgorithmConfig) -> tuple[np.ndarray, np.nda
     points = case.points
     index_map: np.ndarray | None = None
     finite = _finite(points)
-    if config.sphere == "on":
+    if config.sphere == Sphere.ON:
         from .sphere import sphere_project  # scipy: imported when first needed
 
         policy = sphere_duplicate_policy(config.eps)
@@ -361,9 +361,9 @@ def _judged_verdict(points: np.ndarray, faces: np.ndarray | FaceSet, facts: Case
     try:
         return _verdict(points, faces, facts)
     except ContractViolation as exc:
-        raise _Judged("fail", stage, f"{CONTRACT_REASON} {exc}") from None
+        raise _Judged(Status.FAIL, stage, f"{CONTRACT_REASON} {exc}") from None
     except Exception as exc:  # a checker bug must not lose the row, nor blame the algorithm silently
-        raise _Judged("error", Stage.CHECK, f"internal: checker raised {one_line(exc)}",
+        raise _Judged(Status.ERROR, Stage.CHECK, f"internal: checker raised {one_line(exc)}",
                       time.perf_counter() - start) from None
 
 
@@ -391,9 +391,9 @@ def judge(case: Case, config: AlgorithmConfig, outcome: CallOutcome, facts: Case
     """Turn a call's outcome into a table row, applying DESIGN.md's status rules per stage."""
     common = dict(seconds=outcome.seconds, eps_value=outcome.eps_value,
                   degenerate=facts.degenerate, invalid_input=facts.invalid_input)
-    sphere = config.sphere == "on"
+    sphere = config.sphere == Sphere.ON
     if outcome.kind == "preprocess":
-        status = "rejected" if (facts.invalid_input or facts.degenerate) else "error"
+        status = Status.REJECTED if (facts.invalid_input or facts.degenerate) else Status.ERROR
         return make_row(case, config, status=status, stage=Stage.PREPROCESS, reason=f"preprocess: {outcome.error}",
                         sphere_method=status if sphere else "", **common)
     start = time.perf_counter()
@@ -414,7 +414,7 @@ def judge(case: Case, config: AlgorithmConfig, outcome: CallOutcome, facts: Case
                         check_seconds=time.perf_counter() - start, **kw, **common)
 
     def method_failed(reason: str, verdict: Verdict | None = None) -> ResultRow:
-        return row("fail", f"{METHOD_REASON} {reason}", verdict, stage=Stage.PREPROCESS, sphere_method="fail")
+        return row(Status.FAIL, f"{METHOD_REASON} {reason}", verdict, stage=Stage.PREPROCESS, sphere_method=Status.FAIL)
 
     if outcome.kind == "raised":
         # Any exception on an invalid or affinely degenerate input is acceptable
@@ -423,19 +423,19 @@ def judge(case: Case, config: AlgorithmConfig, outcome: CallOutcome, facts: Case
         declined = bool(given.invalid_input or given.degenerate) and not resource
         if declined and problem:
             return method_failed(f"{problem} (the algorithm then raised {outcome.error})")
-        return row("rejected" if declined else "error", outcome.error, error_frame=outcome.frame)
+        return row(Status.REJECTED if declined else Status.ERROR, outcome.error, error_frame=outcome.frame)
     if outcome.kind == "contract":
-        return row("fail", f"{CONTRACT_REASON} {outcome.error}")
+        return row(Status.FAIL, f"{CONTRACT_REASON} {outcome.error}")
     if outcome.kind == "crash":
-        return row("crash", outcome.error)
+        return row(Status.CRASH, outcome.error)
     assert outcome.faces is not None
     if given.invalid_input:
         if problem:
             return method_failed(problem)
         # No hull is defined: a clear rejection or any well-formed output is acceptable (README).
         if given.invalid_input == "no points":
-            return row("pass", "empty input, empty hull" if _is_empty(outcome.faces) else "empty input")
-        return row("pass", f"no hull is defined for invalid input ({given.invalid_input}): "
+            return row(Status.PASS, "empty input, empty hull" if _is_empty(outcome.faces) else "empty input")
+        return row(Status.PASS, f"no hull is defined for invalid input ({given.invalid_input}): "
                            "well-formed output accepted, not checked")
     given_points = outcome.given if outcome.given is not None else case.points
     given_faces = outcome.given_faces if outcome.given is not None else outcome.faces
@@ -444,16 +444,16 @@ def judge(case: Case, config: AlgorithmConfig, outcome: CallOutcome, facts: Case
         if outcome.index_map is not None:
             verdict = _in_input_rows(verdict, outcome.index_map)
         if not sphere or not verdict.ok:
-            return row("pass" if verdict.ok else "fail", "" if verdict.ok else verdict.detail, verdict)
+            return row(Status.PASS if verdict.ok else Status.FAIL, "" if verdict.ok else verdict.detail, verdict)
         # The algorithm's hull of the projected points is right: now judge the sphere method.
         if problem:
             return method_failed(problem)
         method = _judged_verdict(case.points, outcome.faces, facts, Stage.PREPROCESS)
     except _Judged as judged:
         return row(judged.status, judged.reason, stage=judged.stage,
-                   sphere_method="fail" if judged.stage is Stage.PREPROCESS else "")
+                   sphere_method=Status.FAIL if judged.stage is Stage.PREPROCESS else "")
     if method.ok:
-        return row("pass", "", verdict, sphere_method="pass")
+        return row(Status.PASS, "", verdict, sphere_method=Status.PASS)
     return method_failed(f"mapped back, the algorithm's correct hull of the {len(given_points)} projected points "
                          f"is not the input's hull: {method.detail}", method)
 

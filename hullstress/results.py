@@ -146,9 +146,9 @@ def make_row(
         "sphere": config.sphere,
         "eps": config.eps,
         "config": config.label,
-        "status": status,
+        "status": Status(status).value,  # a plain string in the table, whichever spelling came in
         "stage": stage.value,
-        "sphere_method": sphere_method,
+        "sphere_method": str(sphere_method),
         **(sphere_causes.columns() if sphere_causes is not None else empty_sphere_causes()),
         "reason": " ".join(str(reason).split())[:500],
         "error_frame": error_frame,

@@ -25,7 +25,7 @@ from collections.abc import Callable, Sequence
 from typing import Any
 
 from ..errors import UsageError
-from ..records import Stage
+from ..records import Stage, Status
 from ..results import ResultRow, make_row
 from ._pool import PendingJob, PoolSettings, WorkerPool
 from ._protocol import algorithm_refs, emit_row, one_line
@@ -155,7 +155,7 @@ def run_dask(
                 rows, tally = future.result()
             except Exception as exc:  # the Dask worker died or the task could not run there
                 reason = f"internal: dask task failed: {one_line(exc)}"
-                rows = [make_row(task.case, c, status="error", stage=Stage.CHECK, reason=reason,
+                rows = [make_row(task.case, c, status=Status.ERROR, stage=Stage.CHECK, reason=reason,
                                  origin=refs[c.algorithm].origin) for c in task.configs]
                 tally = ExecutionStats(backend="dask")
             for row in rows:

@@ -51,7 +51,7 @@ from typing import Any, Iterator
 
 from ..evaluate import CaseFacts
 from ..results import ResultRow
-from ..records import Stage
+from ..records import Stage, Status
 from ._protocol import AlgorithmRef, Job, death_reason, emit_row, row_for
 from ._types import ExecutionStats, Task
 from ._worker import worker_main
@@ -507,16 +507,16 @@ class WorkerPool:
             origin = self._origin(task, k, settings) if 0 <= k < n else None
             if phase == "call":
                 if kill_reason:
-                    row = row_for(task, k, status="timeout", reason=f"exceeded {float(settings.timeout)} s",
+                    row = row_for(task, k, status=Status.TIMEOUT, reason=f"exceeded {float(settings.timeout)} s",
                                   origin=origin, facts_info=facts_info, seconds=elapsed)
                 else:
-                    row = row_for(task, k, status="crash", reason=how, origin=origin,
+                    row = row_for(task, k, status=Status.CRASH, reason=how, origin=origin,
                                   facts_info=facts_info, seconds=elapsed)
                 job.start_at = k + 1
                 emit_row(row, on_row, stats)
             elif phase == "check":
                 why = f"exceeded {limit:g} s" if kill_reason else f"crashed ({how})"
-                emit_row(row_for(task, k, status="error", reason=f"internal: checker {why}", origin=origin,
+                emit_row(row_for(task, k, status=Status.ERROR, reason=f"internal: checker {why}", origin=origin,
                               facts_info=facts_info, seconds=call_seconds, check_seconds=elapsed,
                               stage=Stage.CHECK), on_row, stats)
                 job.start_at = k + 1
@@ -552,6 +552,6 @@ class WorkerPool:
     def _give_up(self, job: PendingJob, reason: str, settings: PoolSettings,
                  on_row: Callable[[ResultRow], None], stats: ExecutionStats) -> None:
         for k in range(job.start_at, len(job.task.configs)):
-            emit_row(row_for(job.task, k, status="error", reason=reason, origin=self._origin(job.task, k, settings),
+            emit_row(row_for(job.task, k, status=Status.ERROR, reason=reason, origin=self._origin(job.task, k, settings),
                           facts_info=(None, None), stage=Stage.CHECK), on_row, stats)
         job.start_at = len(job.task.configs)

@@ -50,7 +50,7 @@ from typing import Any
 from .._registry import ALGORITHMS, AlgorithmSpec, get_algorithm, set_clockwise
 from ..errors import UsageError, one_line
 from ..evaluate import CaseFacts, call_algorithm, case_facts, judge
-from ..records import Stage
+from ..records import Stage, Status
 from ..results import ResultRow, make_row
 from ._types import ExecutionStats, Task
 
@@ -404,7 +404,7 @@ def run_job(job: Job, problems: Mapping[str, str] | None = None, *,
             facts = case_facts(case, qhull=job.qhull, qhull_options=job.qhull_options)
         except Exception as exc:  # trusted code failing must still leave one row per config
             for k in range(job.start_at, len(configs)):
-                yield ("row", k, make_row(case, configs[k], status="error", stage=Stage.CHECK,
+                yield ("row", k, make_row(case, configs[k], status=Status.ERROR, stage=Stage.CHECK,
                                           reason=f"internal: case facts raised {one_line(exc)}"))
             yield ("done",)
             return
@@ -418,7 +418,7 @@ def run_job(job: Job, problems: Mapping[str, str] | None = None, *,
         config = configs[k]
         problem = problems.get(config.algorithm)
         if problem is not None:
-            yield ("row", k, make_row(case, config, status="error", reason=f"internal: {problem}",
+            yield ("row", k, make_row(case, config, status=Status.ERROR, reason=f"internal: {problem}",
                                       degenerate=facts.degenerate, invalid_input=facts.invalid_input))
             continue
         started = time.monotonic()
@@ -429,7 +429,7 @@ def run_job(job: Job, problems: Mapping[str, str] | None = None, *,
                 outcome = call_algorithm(case, config)
         except _CallTimedOut:
             yield ("row", k, _with_output(make_row(
-                case, config, status="timeout", reason=f"exceeded {float(alarm_after or 0)} s",
+                case, config, status=Status.TIMEOUT, reason=f"exceeded {float(alarm_after or 0)} s",
                 seconds=time.monotonic() - started, degenerate=facts.degenerate,
                 invalid_input=facts.invalid_input), output))
             continue
@@ -437,14 +437,14 @@ def run_job(job: Job, problems: Mapping[str, str] | None = None, *,
             # sys.exit() inside the code under test: the same row as a worker
             # that exits with that code (os._exit), but this process lives on.
             yield ("row", k, _with_output(make_row(
-                case, config, status="crash", reason=death_reason(_exit_code(exc)),
+                case, config, status=Status.CRASH, reason=death_reason(_exit_code(exc)),
                 degenerate=facts.degenerate, invalid_input=facts.invalid_input), output))
             continue
         yield ("called", k, time.monotonic(), outcome.seconds)
         try:
             row = judge(case, config, outcome, facts)
         except Exception as exc:
-            row = make_row(case, config, status="error", stage=Stage.CHECK,
+            row = make_row(case, config, status=Status.ERROR, stage=Stage.CHECK,
                            reason=f"internal: judging raised {one_line(exc)}",
                            seconds=outcome.seconds, eps_value=outcome.eps_value,
                            degenerate=facts.degenerate, invalid_input=facts.invalid_input)
