@@ -513,12 +513,13 @@ def _report(the_run: Run, options: RunOptions, signals: _Signals, started: float
     except KeyboardInterrupt:
         pass  # a second signal: the report stays as far as it got; run.json says why below
     the_run.seconds["report"] = time.perf_counter() - t0
-    # run.json is written again: with the report's own time, and, when the report was interrupted or
-    # failed, saying so.
-    the_run.signal = signals.signum
-    the_run.meta = _metadata(the_run, options, run_metadata)
-    with _noting_refusals(the_run):
-        write_run_json(the_run.run_dir, the_run.meta)
+    if the_run.signal is None or the_run.report is None:
+        # run.json again: with the report's own time, and saying so when a signal interrupted the report
+        # or it failed.  (A run interrupted earlier wrote it already and stops at once.)
+        the_run.signal = signals.signum
+        the_run.meta = _metadata(the_run, options, run_metadata)
+        with _noting_refusals(the_run):
+            write_run_json(the_run.run_dir, the_run.meta)
 
 
 def _metadata(the_run: Run, options: RunOptions, run_metadata: Callable[..., dict[str, Any]]) -> dict[str, Any]:
