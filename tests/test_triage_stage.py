@@ -205,3 +205,7 @@ def test_a_repeated_question_is_answered_by_the_earlier_call_but_a_rerun_runs_ag
     run.batch([(square, 2, b, True)], reuse=[False])
     assert len(pool.calls) == 4 and run.reused == 2
     assert pool.calls[2][2] is False and pool.calls[3][1] == b.label
+    # Under another time limit (hangs are shrunk with the sweep's): a new call.
+    run.timeout = 10.0
+    run.batch([(square, 2, a, False)])
+    assert len(pool.calls) == 5 and run.reused == 2

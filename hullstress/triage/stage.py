@@ -147,7 +147,7 @@ class _Triage:
         self.done = 0
         self.total = total
         self.rounds = 0
-        self.answers: dict[tuple[str, str, bool], ResultRow] = {}  # (case id, config, reference) -> row
+        self.answers: dict[tuple[str, str, bool, float], ResultRow] = {}  # (case, config, reference, limit) -> row
         self.reused = 0  # requests answered by an identical earlier call
 
     # -- running candidates -------------------------------------------------
@@ -165,7 +165,7 @@ class _Triage:
         """Run (points, dim, config, needs qhull) requests as one batch; rows in request order.
 
         A request whose ``reuse`` is True is answered by an identical earlier
-        call when there was one (same points, config and reference), without
+        call when there was one (same points, config, reference and time limit), without
         running it again: shrinks of different groups often ask the same
         question (a minimal case tried by several groups of one config).
         The answer is the row that call would give again, so what triage
@@ -185,9 +185,10 @@ class _Triage:
             if needs and self.qhull:
                 needs_qhull.add(case.case_id)
         # A case that some request needs the Qhull reference for runs once, with it, for all of them;
-        # the others skip the reference.  An earlier answer counts only if judged the same way.
-        full = [(cid, label, cid in needs_qhull) for cid, label in keys]
-        found: dict[tuple[str, str, bool], ResultRow] = {}
+        # the others skip the reference.  An earlier answer counts only if judged the same way, under the
+        # same time limit (hangs are shrunk with a longer one: a call cut short before may finish then).
+        full = [(cid, label, cid in needs_qhull, self.timeout) for cid, label in keys]
+        found: dict[tuple[str, str, bool, float], ResultRow] = {}
         configs: dict[str, list[AlgorithmConfig]] = {}
         for n, ((points, dim, config, needs), key) in enumerate(zip(requests, full)):
             if (reuse is None or reuse[n]) and key in self.answers and key not in found:
@@ -201,7 +202,7 @@ class _Triage:
             for task, rows in zip(tasks, self.pool.run(tasks, timeout=self.timeout, qhull=qhull,
                                                           qhull_options=self.qhull_options)):
                 for config, row in zip(task.configs, rows):
-                    key = (task.case.case_id, config.label, qhull)
+                    key = (task.case.case_id, config.label, qhull, self.timeout)
                     found[key] = self.answers[key] = row
         return [found[k] for k in full]
 
