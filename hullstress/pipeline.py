@@ -384,6 +384,7 @@ def run(
     from .progress import PhaseProgress, ProgressBar
     from .report.writer import OutputLog, RowStream, new_run_dir, prepare_report
 
+    began = time.perf_counter()
     say = echo or (lambda line: None)
     sweep = options.sweep
     baseline = load_baseline(options.baseline) if options.baseline else None  # fails before the sweep
@@ -412,6 +413,7 @@ def run(
             on_row(row)
 
     started = time.perf_counter()
+    the_run.seconds["generate"] = started - began  # the cases, the output folder, the report's imports
     with signals.installed():
         # execute + check: the sweep.
         try:
@@ -537,8 +539,9 @@ def _report(the_run: Run, options: RunOptions, signals: _Signals, started: float
     except KeyboardInterrupt:
         pass  # a second signal: the report stays as far as it got; run.json says why below
     the_run.seconds["report"] = time.perf_counter() - t0
-    if signals.signum is not None and the_run.signal is None or the_run.report is None:
-        # Interrupted while the report was written, or it failed: run.json must say so.
+    if the_run.signal is None or the_run.report is None:
+        # run.json again: with the report's own time, and saying so when a signal interrupted the report
+        # or it failed.  (A run interrupted earlier wrote it already and stops at once.)
         the_run.signal = signals.signum
         the_run.meta = _metadata(the_run, options, run_metadata)
         with _noting_refusals(the_run):
@@ -565,7 +568,8 @@ def _metadata(the_run: Run, options: RunOptions, run_metadata: Callable[..., dic
                "not_reached": _not_reached(the_run),
                "triage": None if the_run.triage is None else {
                    "groups": len(the_run.triage.groups), "causes": len(the_run.triage.causes),
-                   "evaluations": the_run.triage.calls, "stopped": the_run.triage.stopped,
+                   "evaluations": the_run.triage.calls, "reused": the_run.triage.reused,
+                   "stopped": the_run.triage.stopped,
                    "safety_net": the_run.triage.safety_net}},
     )
 

@@ -66,6 +66,8 @@ def test_points_file_only_run_writes_report_and_exits_0(tmp_path, good_plugin, s
     assert set(df["generator"]) == {"file"} and set(df["status"]) == {"pass"}
     meta = json.loads((run_dir / "run.json").read_text())
     assert meta["complete"] is True and meta["seed"] == 0 and "numpy" in meta["versions"]
+    # Every phase's wall time, the report's included (run.json is written again after the report).
+    assert {"generate", "sweep", "triage", "report"} <= set(meta["phase_seconds"])
     assert "[failures_by_config_family.csv](failures_by_config_family.csv)" in (run_dir / "summary.md").read_text()
     assert (run_dir / "failures_by_config_family.csv").is_file() and (run_dir / "status_by_config.csv").is_file()
     assert not (run_dir / "results.partial.csv").exists()

@@ -331,3 +331,31 @@ def test_an_interrupted_shrink_without_the_reference_keeps_the_sweep_case():
         question = shrinker.answer(row)
     result = shrinker.stop("interrupted")
     assert not result.reproduced and result.case is case and result.note == "interrupted"
+
+
+def test_only_the_confirmation_of_the_minimal_case_is_marked_as_a_rerun():
+    """A cache of earlier calls may answer any question but the deliberate re-run (it shows flaky failures)."""
+    from hullstress.results import ResultRow
+    from hullstress.triage import Shrinker
+
+    planted = {2, 5}
+    base = {"algorithm": "made-up", "sphere": "off", "eps": "n/a"}
+    error = ResultRow({**base, "status": "error", "stage": "algorithm", "reason": "ValueError: planted",
+                       "error_frame": "m:3 in f"})
+    sig = signature_of(error)
+
+    def answer(points):
+        return error if planted <= {int(p[0]) for p in points} else ResultRow({**base, "status": "pass"})
+
+    case = Case.from_points(np.column_stack([np.arange(8.0), np.zeros(8)]), family="made-up")
+    shrinker = Shrinker(case, sig, max_calls=200, simplify=False)
+    marks = []
+    question = shrinker.ask()
+    while question is not None:
+        marks.append((question[0].copy(), shrinker.rerun))
+        question = shrinker.answer(answer(question[0]))
+    assert not shrinker.rerun  # nothing pending
+    reruns = [points for points, rerun in marks if rerun]
+    assert len(reruns) == 1 and marks[-1][1]
+    assert np.array_equal(reruns[0], shrinker.result().case.points)
+    assert {int(p[0]) for p in reruns[0]} == planted

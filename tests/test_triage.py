@@ -181,6 +181,21 @@ def test_group_failures_counts_smallest_representative_and_families():
     assert frame.loc[0, "rate"] == pytest.approx(2 / 7, abs=1e-3)
 
 
+def test_group_failures_skips_missing_cells_and_keeps_the_first_of_the_smallest_in_table_order():
+    table = _table([
+        {"case_id": "c1", "status": "error", "reason": "KeyError: 1", "n_points": 9},
+        {"case_id": "c2", "status": "error", "reason": "KeyError: 2", "n_points": 4, "generator": None},
+        {"case_id": "c3", "status": "error", "reason": "KeyError: 1", "n_points": 4, "generator": "other"},
+        {"case_id": "c4", "status": "error", "reason": "KeyError: 3", "n_points": None},
+    ]).astype({"generator": "string"})
+    table.index = [40, 30, 20, 10]  # table order, not index order, decides ties
+    (group,) = group_failures(table)
+    assert group.count == 4 and group.case_ids == ("c1", "c2", "c3", "c4")
+    assert group.smallest_case_id == "c4" and group.smallest_index == 10  # a missing size counts as 0
+    assert group.families == (("fam", 2), ("other", 1))  # the missing family is counted nowhere
+    assert group.reasons == ("KeyError: 1", "KeyError: 2", "KeyError: 3")
+
+
 def test_group_failures_of_a_clean_or_empty_table():
     assert group_failures(_table([{"case_id": "a", "status": "pass"}, {"case_id": "b", "status": "rejected"}])) == []
     assert group_failures(_table([]).iloc[0:0]) == []

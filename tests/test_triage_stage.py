@@ -166,3 +166,46 @@ def test_chains_hold_back_groups_of_a_kind_seen_before():
     chains = plan_chains(groups)
     assert chains == [[[0], [1], [2, 3], [4, 5, 6]], [[7]], [[8]]]
     assert sorted(i for chain in chains for wave in chain for i in wave) == list(range(len(groups)))
+
+
+class _CountingPool:
+    """A stand-in for the call pool: every config passes; counts the (case, config, reference) calls it runs."""
+
+    def __init__(self) -> None:
+        self.calls: list[tuple[str, str, bool]] = []
+
+    def run(self, tasks, *, timeout, qhull, qhull_options=None):
+        from hullstress.results import ResultRow
+
+        out = []
+        for task in tasks:
+            self.calls += [(task.case.case_id, c.label, qhull) for c in task.configs]
+            out.append([ResultRow({"case_id": task.case.case_id, "config": c.label, "status": "pass",
+                                   "qhull": qhull}) for c in task.configs])
+        return out
+
+
+def test_a_repeated_question_is_answered_by_the_earlier_call_but_a_rerun_runs_again():
+    from hullstress.triage.stage import _Triage
+
+    pool = _CountingPool()
+    run = _Triage(pool, budget=TriageBudget(calls=100, group_calls=10, hang_calls=0, pictures=0,
+                                            safety_seconds=60.0), timeout=5.0, qhull=True, should_stop=None,
+                  progress=None, total=1)
+    square = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+    a, b = AlgorithmConfig("monotone-chain", eps="scaled"), AlgorithmConfig("monotone-chain", eps="fixed")
+    first = run.batch([(square, 2, a, False), (square, 2, b, True)])
+    assert len(pool.calls) == 2 and run.reused == 0
+    # Judged with the reference once a request of the batch needs it, for every config of the case.
+    assert [r["qhull"] for r in first] == [True, True]
+    again = run.batch([(square, 2, a, True), (square, 2, b, True)])
+    assert len(pool.calls) == 2 and run.reused == 2 and all(x is y for x, y in zip(again, first))
+    # Judged another way (no reference): a new call; a deliberate re-run: a new call too.
+    run.batch([(square, 2, a, False)])
+    run.batch([(square, 2, b, True)], reuse=[False])
+    assert len(pool.calls) == 4 and run.reused == 2
+    assert pool.calls[2][2] is False and pool.calls[3][1] == b.label
+    # Under another time limit (hangs are shrunk with the sweep's): a new call.
+    run.timeout = 10.0
+    run.batch([(square, 2, a, False)])
+    assert len(pool.calls) == 5 and run.reused == 2

@@ -233,7 +233,10 @@ class TriageResult:
     stopped : bool
         Triage was interrupted before every group was handled.
     calls : int
-        Judged calls triage made (shrinks, cross-checks, verification).
+        Evaluations the shrinks asked for (the unit of the budget; cross-checks included).
+    reused : int
+        Of those, the ones answered by an identical earlier call (same points,
+        config and reference) instead of a new one.
     safety_net : bool
         The wall-clock safety net stopped triage: what it produced may differ between runs.
     """
@@ -246,3 +249,4 @@ class TriageResult:
     stopped: bool = False
     calls: int = 0
     safety_net: bool = False
+    reused: int = 0

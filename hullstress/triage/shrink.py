@@ -178,6 +178,7 @@ class Shrinker:
         self._row: ResultRow | None = None  # the exact row of the minimal case
         self._verified: bool | None = None
         self._sweep_row = row  # the case's own row, judged exactly
+        self._rerun = False  # the pending question re-runs a case on purpose
         self._reset()
         self._gen = self._run()
 
@@ -195,6 +196,15 @@ class Shrinker:
     @property
     def finished(self) -> bool:
         return self._finished
+
+    @property
+    def rerun(self) -> bool:
+        """The pending question re-runs a case on purpose (the minimal case's exact confirmation).
+
+        Its answer must come from a new call, never from a cache of earlier
+        calls: a flaky or state-dependent failure shows only that way.
+        """
+        return self._rerun and self._question is not None
 
     def ask(self) -> Question | None:
         """The first question (None when the shrink needs no call at all)."""
@@ -278,7 +288,11 @@ class Shrinker:
 
     def _confirm(self, points: np.ndarray) -> Generator[Question, ResultRow, ResultRow | None]:
         """Re-run the minimal case exactly (with the reference when the signature needs it)."""
-        row = yield (points, self._reference)
+        self._rerun = True
+        try:
+            row = yield (points, self._reference)
+        finally:
+            self._rerun = False
         self.calls += 1
         return row if signature_of(row) == self.signature else None
 

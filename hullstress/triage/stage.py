@@ -147,6 +147,8 @@ class _Triage:
         self.done = 0
         self.total = total
         self.rounds = 0
+        self.answers: dict[tuple[str, str, bool, float], ResultRow] = {}  # (case, config, reference, limit) -> row
+        self.reused = 0  # requests answered by an identical earlier call
 
     # -- running candidates -------------------------------------------------
 
@@ -158,32 +160,51 @@ class _Triage:
             raise _Halt(f"stopped by the wall-clock safety net ({limit:g} s): the case may not be minimal, "
                         "and may differ between runs", interrupted=False)
 
-    def batch(self, requests: Sequence[tuple[np.ndarray, int, AlgorithmConfig, bool]]) -> list[ResultRow]:
-        """Run (points, dim, config, needs qhull) requests as one batch; rows in request order."""
+    def batch(self, requests: Sequence[tuple[np.ndarray, int, AlgorithmConfig, bool]], *,
+              reuse: Sequence[bool] | None = None) -> list[ResultRow]:
+        """Run (points, dim, config, needs qhull) requests as one batch; rows in request order.
+
+        A request whose ``reuse`` is True is answered by an identical earlier
+        call when there was one (same points, config, reference and time limit), without
+        running it again: shrinks of different groups often ask the same
+        question (a minimal case tried by several groups of one config).
+        The answer is the row that call would give again, so what triage
+        produces does not change; only the calls it makes.  Deliberate
+        re-runs (a minimal case confirmed, an unshrunk case verified) pass
+        False.
+        """
         from ..runner import Task
 
         cases: dict[str, Case] = {}
-        configs: dict[str, list[AlgorithmConfig]] = {}
         needs_qhull: set[str] = set()
         keys = []
         for points, dim, config, needs in requests:
             case = candidate_case(points, dim)
             cases.setdefault(case.case_id, case)
-            configs.setdefault(case.case_id, []).append(config)
             keys.append((case.case_id, config.label))
             if needs and self.qhull:
                 needs_qhull.add(case.case_id)
-        found: dict[tuple[str, str], ResultRow] = {}
+        # A case that some request needs the Qhull reference for runs once, with it, for all of them;
+        # the others skip the reference.  An earlier answer counts only if judged the same way, under the
+        # same time limit (hangs are shrunk with a longer one: a call cut short before may finish then).
+        full = [(cid, label, cid in needs_qhull, self.timeout) for cid, label in keys]
+        found: dict[tuple[str, str, bool, float], ResultRow] = {}
+        configs: dict[str, list[AlgorithmConfig]] = {}
+        for n, ((points, dim, config, needs), key) in enumerate(zip(requests, full)):
+            if (reuse is None or reuse[n]) and key in self.answers and key not in found:
+                found[key] = self.answers[key]
+                self.reused += 1
+            elif key not in found:
+                configs.setdefault(key[0], []).append(config)
         for qhull in (True, False):
-            # A case that some request needs the Qhull reference for runs once, with it, for all of them;
-            # the others skip the reference (their verdicts cannot depend on it).
             tasks = [Task(n, cases[cid], tuple(dict.fromkeys(cfgs))) for n, (cid, cfgs) in enumerate(configs.items())
                      if (cid in needs_qhull) == qhull]
             for task, rows in zip(tasks, self.pool.run(tasks, timeout=self.timeout, qhull=qhull,
                                                           qhull_options=self.qhull_options)):
                 for config, row in zip(task.configs, rows):
-                    found[(task.case.case_id, config.label)] = row
-        return [found[k] for k in keys]
+                    key = (task.case.case_id, config.label, qhull, self.timeout)
+                    found[key] = self.answers[key] = row
+        return [found[k] for k in full]
 
     def _report(self, detail: str) -> None:
         if self.progress is not None:
@@ -251,7 +272,8 @@ class _Triage:
                 self._check_halt()
                 order = sorted(running)
                 answers = self.batch([(questions[i][0], cases[groups[i].smallest_case_id].dim,
-                                       groups[i].signature.config, questions[i][1]) for i in order])
+                                       groups[i].signature.config, questions[i][1]) for i in order],
+                                     reuse=[not running[i][0].rerun for i in order])
                 self.rounds += 1
                 self.used += len(order)
                 restart = []
@@ -454,17 +476,17 @@ def triage_failures(
                 verified.update(_verify(run, chosen, results))
             except (_Halt, KeyboardInterrupt):
                 stopped = True
-        calls = run.used
+        calls, reused = run.used, run.reused
     records = _records(chosen, results, causes, verified, stopped=stopped)
     by_group = {id(r.group): r for r in records}
     cause_records = [Cause(key=key, records=tuple(by_group[id(chosen[i])] for i in members))
                      for key, members in causes]
     cause_records.sort(key=lambda c: -c.failures)  # stable: ties stay in group order
     notes = _notes(groups, chosen, results, cause_records, budget, calls, shrink, halt, missing, max_records,
-                   records)
+                   records, reused)
     return TriageResult(groups=groups, records=records, causes=cause_records, notes=notes,
                         seconds=time.perf_counter() - began, stopped=stopped, calls=calls,
-                        safety_net=halt is not None and not halt.interrupted)
+                        safety_net=halt is not None and not halt.interrupted, reused=reused)
 
 
 def _merge(chosen: list[FailureGroup], results: dict[int, ShrinkResult]) -> list[tuple[str, list[int]]]:
@@ -485,7 +507,7 @@ def _verify(run: _Triage, chosen: list[FailureGroup], results: dict[int, ShrinkR
     todo = [i for i in range(len(chosen)) if not results[i].reproduced and chosen[i].signature.status != "timeout"]
     run._check_halt()
     rows = run.batch([(np.asarray(results[i].case.points), results[i].case.dim, chosen[i].signature.config,
-                       chosen[i].signature.status == "fail") for i in todo])
+                       chosen[i].signature.status == "fail") for i in todo], reuse=[False] * len(todo))
     return {i: signature_of(row) == chosen[i].signature for i, row in zip(todo, rows)}
 
 
@@ -516,7 +538,7 @@ def _records(chosen: list[FailureGroup], results: dict[int, ShrinkResult], cause
 
 def _notes(groups: list[FailureGroup], chosen: list[FailureGroup], results: dict[int, ShrinkResult],
            causes: list[Cause], budget: TriageBudget, calls: int, shrink: bool, halt: _Halt | None,
-           missing: int, max_records: int, records: list[TriageRecord]) -> list[str]:
+           missing: int, max_records: int, records: list[TriageRecord], reused: int = 0) -> list[str]:
     notes: list[str] = []
     shrunk = sum(1 for r in results.values() if r.reproduced)
     adopted = sum(1 for r in results.values() if r.adopted)
@@ -526,7 +548,8 @@ def _notes(groups: list[FailureGroup], chosen: list[FailureGroup], results: dict
             f"to translation, power-of-two scaling, row and axis order are one cause). {shrunk} of {len(chosen)} "
             f"groups minimised, {adopted} of them starting from another group's minimal case; "
             f"{calls} of {budget.calls} evaluations used ({budget.group_calls} per group at most), so the "
-            "same seed gives the same causes and folders.")
+            "same seed gives the same causes and folders"
+            + (f"; {reused} of them answered by an identical earlier call instead of a new one." if reused else "."))
     else:
         notes.append("Shrinking was turned off (--no-shrink): each group shows its smallest failing case.")
     cut = [r for r in results.values() if r.exhausted and r.reproduced]

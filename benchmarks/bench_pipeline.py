@@ -1,0 +1,138 @@
+"""Measure a whole run end to end, phase by phase, with 1 and 2 workers (issue 15's timing targets).
+
+A script, not a test::
+
+    python benchmarks/bench_pipeline.py                    # quick profile, seed 0, 1 vs 2 workers
+    python benchmarks/bench_pipeline.py --workers 1,2,4 --seed 3
+    python benchmarks/bench_pipeline.py --algorithm gift-wrap-3d --generator coplanar-grid
+
+Each worker count runs ``python -m hullstress run`` as a user runs it, in a
+fresh interpreter: generating the cases, the sweep, triage and the report.
+The table gives the command's wall time, the phases recorded in its
+``run.json`` (``phase_seconds``: ``generate`` is building the cases and
+loading what the report needs, then the sweep, triage and the report), the
+rest (``start-up``: the interpreter, the command line's imports and the
+exit; what the command's wall time has beyond the phases) and the speed-up
+over the first worker count, overall and per phase.  The runs alternate between worker counts
+(``--repeat`` rounds), so a change of the machine's load falls on every
+count alike; each count keeps its best round.
+
+The issue's targets: the quick profile in at most 30 s end to end on
+2 cores, and 2 workers at least 1.8x faster than 1 end to end.  On a shared
+machine the seconds move with the load (printed before and after); the
+speed-ups, measured in the same run, much less.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+#: The phases ``run.json`` times, in order.
+PHASES = ("generate", "sweep", "triage", "report")
+
+
+@dataclass(frozen=True)
+class Measured:
+    """One ``hullstress run``: its wall time, phases and triage counts."""
+
+    workers: int
+    wall: float
+    phases: dict[str, float]
+    triage: dict
+
+    @property
+    def start_up(self) -> float:
+        return max(0.0, self.wall - sum(self.phases.get(p, 0.0) for p in PHASES))
+
+    def seconds(self, what: str) -> float:
+        return self.wall if what == "end to end" else self.start_up if what == "start-up" else self.phases.get(what, 0.0)
+
+
+def _parse_workers(text: str) -> list[int]:
+    try:
+        counts = [int(x) for x in text.split(",") if x.strip()]
+    except ValueError:
+        raise SystemExit(f"--workers must be comma-separated integers, got {text!r}") from None
+    if not counts or min(counts) < 1:
+        raise SystemExit(f"--workers must list worker counts of at least 1, got {text!r}")
+    return counts
+
+
+def _load() -> str:
+    try:
+        return ", ".join(f"{x:.2f}" for x in os.getloadavg()) + f" (1, 5, 15 min) on {os.cpu_count()} CPUs"
+    except OSError:
+        return "unknown"
+
+
+def run_once(args: argparse.Namespace, workers: int, out: Path) -> Measured:
+    """One ``python -m hullstress run`` with ``workers``, timed from outside; its run.json read back."""
+    cmd = [sys.executable, "-m", "hullstress", "run", "--profile", args.profile, "--seed", str(args.seed),
+           "--workers", str(workers), "--out", str(out), "--quiet"]
+    cmd += [f"--algorithm={a}" for a in args.algorithm] + [f"--generator={g}" for g in args.generator]
+    if args.timeout is not None:
+        cmd += ["--timeout", str(args.timeout)]
+    start = time.perf_counter()
+    proc = subprocess.run(cmd, capture_output=True, text=True)
+    wall = time.perf_counter() - start
+    if proc.returncode not in (0, 1):
+        raise SystemExit(f"{' '.join(cmd)} exited {proc.returncode}: {proc.stderr[-2000:]}")
+    run_dir = Path([ln for ln in proc.stdout.splitlines() if ln.startswith("report: ")][-1].split(": ", 1)[1])
+    meta = json.loads((run_dir / "run.json").read_text())
+    return Measured(workers=workers, wall=wall, phases={p: float(meta.get("phase_seconds", {}).get(p, 0.0))
+                                                        for p in PHASES}, triage=meta.get("triage") or {})
+
+
+def table(results: list[Measured]) -> str:
+    """The Markdown table: seconds per phase and end to end, and the speed-up over the first row."""
+    columns = ("end to end", *PHASES, "start-up")
+    first = results[0]
+    lines = ["| workers | " + " | ".join(f"{c} s" for c in columns) + " | evaluations | causes | "
+             + " | ".join(f"speed-up {c}" for c in ("end to end", *PHASES)) + " |",
+             "|---:" * (3 + 2 * len(columns) - 1) + "|"]
+    for m in results:
+        secs = " | ".join(f"{m.seconds(c):.1f}" for c in columns)
+        ups = " | ".join(f"{first.seconds(c) / m.seconds(c):.2f}x" if m.seconds(c) > 0 else "-"
+                         for c in ("end to end", *PHASES))
+        lines.append(f"| {m.workers} | {secs} | {m.triage.get('evaluations', '')} | {m.triage.get('causes', '')} "
+                     f"| {ups} |")
+    return "\n".join(lines)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--profile", default="quick", help="sweep profile (default quick)")
+    parser.add_argument("--workers", default="1,2", type=_parse_workers, help="worker counts (default 1,2)")
+    parser.add_argument("--repeat", type=int, default=1, help="rounds over the worker counts; best kept (default 1)")
+    parser.add_argument("--algorithm", action="append", default=[], help="only this algorithm (repeatable)")
+    parser.add_argument("--generator", action="append", default=[], help="only this generator (repeatable)")
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--timeout", type=float, default=None, help="per-call timeout (default: the profile's)")
+    args = parser.parse_args(argv)
+    if args.repeat < 1:
+        raise SystemExit(f"--repeat must be at least 1, got {args.repeat}")
+    print(f"load average before: {_load()}")
+    best: dict[int, Measured] = {}
+    with tempfile.TemporaryDirectory(prefix="hullstress-bench-pipeline-") as tmp:
+        for r in range(args.repeat):
+            for workers in args.workers:
+                got = run_once(args, workers, Path(tmp) / f"r{r}-w{workers}")
+                print(f"  round {r + 1}, {workers} workers: {got.wall:.1f} s", file=sys.stderr)
+                if workers not in best or got.wall < best[workers].wall:
+                    best[workers] = got
+    print(f"load average after: {_load()}\n")
+    print(f"## `python -m hullstress run --profile {args.profile} --seed {args.seed}` end to end\n")
+    print(table([best[w] for w in args.workers]))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
