@@ -22,6 +22,7 @@ import numpy as np
 from ..case import Case
 from ..config import AlgorithmConfig
 from ..contract import FaceSet
+from ..records import Status
 from .oracle import IsolationUnavailable, fails_same_way
 from .signature import Signature
 
@@ -83,7 +84,7 @@ def output_faces(case: Case, config: AlgorithmConfig, signature: Signature) -> t
     exact call return, so running it once more in this process is safe;
     errors, timeouts and crashes produce no faces.
     """
-    if signature.status != "fail":
+    if signature.status != Status.FAIL:
         return None, f"no output: the call ends in {signature.status}"
     from ..evaluate import call_algorithm
 

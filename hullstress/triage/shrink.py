@@ -47,6 +47,7 @@ from ..options import DEFAULTS
 from ..results import ResultRow
 from .deletion import delete_rows
 from .oracle import IsolationUnavailable, run_config
+from ..records import Status
 from .records import ShrinkResult
 from .signature import Signature, signature_of
 from .simplify import coordinate_candidates, mantissa_bits, pow2_normalize, round_mantissa
@@ -167,7 +168,7 @@ class Shrinker:
         self.steps: list[str] = []
         self.phase = "verify"
         self.started = time.perf_counter()
-        self._reference = qhull and signature.status == "fail"
+        self._reference = qhull and signature.status == Status.FAIL
         # Without the reference every candidate of a qhull_agreement-only failure would "pass".
         self._lazy = self._reference and signature.checks != "qhull_agreement"
         self._candidates = list(candidates)

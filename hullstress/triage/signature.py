@@ -34,19 +34,20 @@ from dataclasses import asdict, dataclass
 from typing import Any
 
 from ..config import AlgorithmConfig
-from ..records import CONTRACT_REASON, METHOD_REASON
+from ..records import CONTRACT_REASON, FAILED_STATUSES as _FAILED, METHOD_REASON, NO_EPS, Stage, Status
 from ..verdict import CHECKS
 
 __all__ = ["Signature", "failed_check", "failed_checks_of", "signature_of", "stage_of", "FAILED_STATUSES",
            "FAILED_CHECKS", "DEFAULT_STAGE"]
 
 #: Statuses that are failures of the code under test (``rejected`` is acceptable behaviour).
-FAILED_STATUSES = ("fail", "error", "timeout", "crash")
+FAILED_STATUSES = tuple(s.value for s in Status if s in _FAILED)
 #: The stage of a row that does not say (tables written before the ``stage`` column).
-DEFAULT_STAGE = "algorithm"
+DEFAULT_STAGE = Stage.ALGORITHM.value
 
 #: Every value the "failed check" part of a signature can take (``shrink --check`` accepts these).
-FAILED_CHECKS = ("contract",) + tuple(CHECKS) + ("collapsed", "invalid-input", "error", "timeout", "crash")
+FAILED_CHECKS = (("contract",) + tuple(CHECKS) + ("collapsed", "invalid-input")
+                 + (Status.ERROR.value, Status.TIMEOUT.value, Status.CRASH.value))
 
 _CONTRACT_PREFIX = CONTRACT_REASON
 _INTERNAL_PREFIX = "internal:"
@@ -92,7 +93,7 @@ def failed_checks_of(status: str, reason: Any = "", failed_checks: Any = "") -> 
     >>> failed_checks_of("error", "ValueError: x", "")
     ''
     """
-    if status != "fail":
+    if status != Status.FAIL:
         return ""
     if _text(reason).startswith(_CONTRACT_PREFIX):
         return "contract"
@@ -122,17 +123,17 @@ def failed_check(status: str, reason: Any = "", failed_checks: Any = "") -> str 
     """
     if status not in FAILED_STATUSES:
         return None
-    if status != "fail":
+    if status != Status.FAIL:
         return status
     return failed_checks_of(status, reason, failed_checks).split(",")[0]
 
 
 def _error_kind(status: str, reason: str) -> str:
-    if status == "error":
+    if status == Status.ERROR:
         if reason.startswith(_INTERNAL_PREFIX):
             return "internal"
         return reason.split(":", 1)[0].strip()
-    if status == "crash":
+    if status == Status.CRASH:
         signal = _SIGNAL.search(reason)
         if signal:
             return signal.group(1)
@@ -177,7 +178,7 @@ class Signature:
     sphere: str
     eps: str
     stage: str = DEFAULT_STAGE
-    status: str = "fail"
+    status: str = Status.FAIL.value
     checks: str = ""
     severity: str = ""
     error: str = ""
@@ -191,12 +192,12 @@ class Signature:
     @property
     def check(self) -> str:
         """One word: the first failed check for ``fail`` (``contract``, ``invalid-input``), else the status."""
-        return self.checks.split(",")[0] if self.status == "fail" and self.checks else self.status
+        return self.checks.split(",")[0] if self.status == Status.FAIL and self.checks else self.status
 
     @property
     def dangerous(self) -> bool:
         """Reproducing it hangs or kills the process: only ever run in an isolated worker."""
-        return self.status in ("timeout", "crash")
+        return self.status in (Status.TIMEOUT, Status.CRASH)
 
     @property
     def what(self) -> str:
@@ -235,7 +236,7 @@ class Signature:
         could then collide) or when the name would be long.
         """
         # "n/a" is the one standard value with an unsafe character: spell it "na" up front.
-        eps = "na" if self.eps == "n/a" else self.eps
+        eps = "na" if self.eps == NO_EPS else self.eps
         parts = [self.algorithm, f"sphere-{self.sphere}", f"eps-{eps}"]
         if self.stage != DEFAULT_STAGE:
             parts.append(self.stage)
@@ -285,9 +286,9 @@ def signature_of(row: Mapping[str, Any] | Any) -> Signature | None:
         return None
     reason = _text(get("reason"))
     checks = failed_checks_of(status, reason, get("failed_checks"))
-    severity = _text(get("severity")) if status == "fail" and checks not in ("contract", "invalid-input") else ""
+    severity = _text(get("severity")) if status == Status.FAIL and checks not in ("contract", "invalid-input") else ""
     return Signature(
         algorithm=_text(get("algorithm")), sphere=_text(get("sphere")), eps=_text(get("eps")),
         stage=stage_of(get("stage")), status=status, checks=checks, severity=severity,
-        error=_error_kind(status, reason), frame=_text(get("error_frame")) if status == "error" else "",
+        error=_error_kind(status, reason), frame=_text(get("error_frame")) if status == Status.ERROR else "",
     )

@@ -61,6 +61,7 @@ from .canonical import canonical_key
 from .evidence import output_faces, storage_kind, verify_from_storage
 from .grouping import FailureGroup, group_failures
 from .oracle import DEFAULT_TIMEOUT
+from ..records import Status
 from .records import Cause, ShrinkResult, TriageRecord, TriageResult
 from .shrink import Question, Shrinker, candidate_case
 from .signature import Signature, signature_of
@@ -215,8 +216,8 @@ class _Triage:
     def run(self, groups: list[FailureGroup], cases: dict[str, Case], results: dict[int, ShrinkResult],
             rows: dict[int, ResultRow]) -> None:
         """Shrink ``groups`` (indexed by position) into ``results``; stops only by :class:`_Halt`."""
-        regular = [i for i, g in enumerate(groups) if g.signature.status != "timeout"]
-        hangs = [i for i, g in enumerate(groups) if g.signature.status == "timeout"]
+        regular = [i for i, g in enumerate(groups) if g.signature.status != Status.TIMEOUT]
+        hangs = [i for i, g in enumerate(groups) if g.signature.status == Status.TIMEOUT]
         chains = [[[regular[k] for k in wave] for wave in chain] for chain in plan_chains([groups[i] for i in regular])]
         self._lockstep(chains, groups, cases, results, rows, cap_limit=self.budget.group_calls)
         if hangs:
@@ -304,7 +305,7 @@ class _Triage:
         g, case = groups[i], cases[groups[i].smallest_case_id]
         if cap < 1:
             why = ("each call of a hang lasts the whole timeout and the profile allows none"
-                   if g.signature.status == "timeout" and cap_limit == 0
+                   if g.signature.status == Status.TIMEOUT and cap_limit == 0
                    else "the triage evaluation budget was spent on earlier groups")
             results[i] = _unshrunk(case, g.signature, rows.get(i), f"not shrunk: {why}")
             self.done += 1
@@ -504,10 +505,10 @@ def _verify(run: _Triage, chosen: list[FailureGroup], results: dict[int, ShrinkR
 
     Hangs are not re-run: each would cost a whole timeout.
     """
-    todo = [i for i in range(len(chosen)) if not results[i].reproduced and chosen[i].signature.status != "timeout"]
+    todo = [i for i in range(len(chosen)) if not results[i].reproduced and chosen[i].signature.status != Status.TIMEOUT]
     run._check_halt()
     rows = run.batch([(np.asarray(results[i].case.points), results[i].case.dim, chosen[i].signature.config,
-                       chosen[i].signature.status == "fail") for i in todo], reuse=[False] * len(todo))
+                       chosen[i].signature.status == Status.FAIL) for i in todo], reuse=[False] * len(todo))
     return {i: signature_of(row) == chosen[i].signature for i, row in zip(todo, rows)}
 
 
