@@ -640,6 +640,9 @@ def affine_rank():
                  "triangles around an inner triangle that none covers: a hole"),
         "zero-area-face": ([[0, 1, 2, 3], [0, 5, 1]], ["convexity"], "roundoff", ["no area"],
                            "the square and a face along its edge through the midpoint: zero area"),
+        "reflex-face": ([[0, 1, 2, 7], [0, 7, 2, 3]], ["convexity"], "roundoff", ["is not a convex polygon"],
+                        "an exact cover of the square by two faces, one with a reflex corner at the inner "
+                        "point 7: only the face test can reject it"),
     }
     for scale in SCALES:
         pts = place(plane, "oblique", scale)
