@@ -147,13 +147,12 @@ def test_a_boundary_through_an_inner_point_on_both_sides():
     # its boundary runs 2 -> 6 -> 3, off the hull edge 2-3.  The reversed fan is the other side, same fault.
     ccw = [[0, 1, 2], [0, 2, 6], [0, 6, 3]]
     v = _judge(_square([1.0, 1.5]), ccw + [f[::-1] for f in ccw])
-    # Which check a side that fails to tile this way charges is not documented (the checker says
-    # convexity, tests/_exact_verdict.py a hole, manifoldness): only that it fails is pinned.
-    assert not v.ok, v.detail
+    # A side that leaves part of the polygon uncovered has a hole (README): manifoldness, gross.
+    assert v.failed_checks == ("manifoldness",) and v.severity == "gross", v.detail
     assert v.offending == {"misordered_vertices": (6,)}
     assert v.n_nonconvex_edges == 2  # one misplaced point per side
-    assert ("convexity: the counter-clockwise faces' boundary: points 6 of the walk are not on the hull edge "
-            "they sit between; the clockwise faces' boundary: points 6") in v.detail
+    assert ("manifoldness: the counter-clockwise faces do not tile the polygon: their boundary: points 6 of the "
+            "walk are not on the hull edge they sit between; the clockwise faces do not tile") in v.detail
 
 
 def test_a_boundary_that_winds_twice_visits_the_corners_out_of_order():
@@ -164,13 +163,13 @@ def test_a_boundary_that_winds_twice_visits_the_corners_out_of_order():
     rim = [0, 4, 2, 5, 1, 6]
     fan = [[3, rim[i], rim[(i + 1) % 6]] for i in range(6)]
     v = _judge(pts, fan)
-    assert not v.ok, v.detail  # (the check charged is not documented: see the test above)
+    assert v.failed_checks == ("manifoldness",), v.detail  # parts of the triangle are covered twice
     assert v.offending == {"misordered_vertices": (0, 1, 2)} and v.n_nonconvex_edges == 3
     assert "the extreme points are not in order around the polygon" in v.detail
     # The same with a pentagram rim around a pentagon's centre.
     star = [0, 2, 4, 1, 3]
     v = _judge(_pentagon(), [[5, star[i], star[(i + 1) % 5]] for i in range(5)])
-    assert not v.ok, v.detail
+    assert v.failed_checks == ("manifoldness",), v.detail
     assert v.offending == {"misordered_vertices": (0, 1, 2, 3, 4)}
     assert "the extreme points are not in order around the polygon" in v.detail
 
