@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 from hullstress.checker._geometry import distround
-from hullstress.checker.lowdim import judge_lower_dimensional
+from hullstress.checker.lowdim import judge_lower_dimensional, verdict_if_degenerate
 
 from _exact_verdict import hull2d, to_integers, turn
 
@@ -332,3 +332,62 @@ def test_points_outside_a_wrong_flat_answer_agree_with_rational_arithmetic(seed)
         expected = _outside_exactly(xy, used)
         assert v.offending.get("containment", ()) == tuple(expected), (used, v.detail)
         assert v.n_outside == len(expected) and not v.containment
+
+
+# ----------------------------------------------------------------------------- the public entry points
+
+def test_faceset_answers_are_validated():
+    from hullstress.contract import FaceSet
+    from hullstress.errors import ContractViolation
+
+    pts = _square()
+    ok = FaceSet(np.array([0, 1, 2, 3]), np.array([0, 4]))  # index 0 and the last index are in range
+    assert judge_lower_dimensional(pts, ok).ok
+    for bad in ([0, 1, 6], [-1, 1, 2]):
+        with pytest.raises(ContractViolation, match="faces hold an index out of range for 6 points"):
+            judge_lower_dimensional(pts, FaceSet(np.array(bad), np.array([0, 3])))
+    with pytest.raises(ContractViolation, match="a FaceSet describes a 3D surface, got 2D points"):
+        judge_lower_dimensional(pts[:, :2][[0, 4, 1]], FaceSet(np.array([0, 1, 2]), np.array([0, 3])))
+
+
+def test_offending_lists_are_cut_at_max_offending():
+    # 30 points on a line, the answer [0, 1]: the 28 others lie beyond point 1.
+    line = np.c_[np.arange(30.0), 2 * np.arange(30.0)]
+    v = judge_lower_dimensional(line, [0, 1])
+    assert v.n_outside == 28 and v.offending["containment"] == tuple(range(2, 22))  # the default, 20
+    assert judge_lower_dimensional(line, [0, 1], max_offending=3).offending["containment"] == (2, 3, 4)
+    w = verdict_if_degenerate(line, [0, 1])
+    assert w.offending["containment"] == tuple(range(2, 22))
+    assert verdict_if_degenerate(line, [0, 1], max_offending=2).offending == {"containment": (2, 3), "missing_extreme": (29,)}
+
+
+def test_verdict_if_degenerate_records_the_reference():
+    line = np.array([[0.0, 0.0], [1.0, 1.0], [2.0, 2.0]])
+    reference = SimpleNamespace(volume=None, options="QJ", qhull_ok=True, simplex=np.array([0, 2]))
+    v = verdict_if_degenerate(line, [2, 0], reference=reference)
+    assert v.ok and v.qhull_options == "QJ" and v.qhull_ok is True and v.affine_rank == 1
+    assert verdict_if_degenerate(np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]), [0, 1, 2]) is None
+
+
+def test_integer_and_list_input_is_judged_as_floats():
+    assert judge_lower_dimensional([[0, 0], [1, 1], [2, 2]], [0, 2]).ok
+    assert verdict_if_degenerate([[0, 0], [1, 1], [2, 2]], [0, 2]).ok
+    assert not judge_lower_dimensional([[0, 0], [1, 1], [2, 2]], [0, 1]).ok
+
+
+def test_the_hull_of_nothing_and_of_a_line_falling_to_the_right():
+    empty = judge_lower_dimensional(np.zeros((0, 3)), [])
+    assert empty.ok and empty.affine_rank == -1 and empty.n_extreme == 0
+    # The endpoints are ordered lexicographically (x first), whatever the line's slope.
+    falling = np.array([[3.0, 0.0], [1.0, 2.0], [0.0, 3.0], [2.0, 1.0]])
+    from hullstress.checker.lowdim import lower_dimensional_hull
+    assert lower_dimensional_hull(falling).extreme.tolist() == [2, 0]
+    assert "the segment from point 2 (0.0, 3.0) to point 0 (3.0, 0.0)" in judge_lower_dimensional(falling, [0, 2]).detail
+
+
+def test_a_flat_input_in_a_plane_of_constant_x():
+    # Only the (y, z) projection keeps these points apart.
+    pts = np.c_[np.full(4, 5.0), [[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]]]
+    assert judge_lower_dimensional(pts, [[0, 1, 2, 3]]).ok
+    v = judge_lower_dimensional(pts, [[0, 1, 2]])
+    assert v.offending == {"containment": (3,), "missing_extreme": (3,)}
