@@ -640,6 +640,11 @@ def affine_rank():
                  "triangles around an inner triangle that none covers: a hole"),
         "zero-area-face": ([[0, 1, 2, 3], [0, 5, 1]], ["convexity"], "roundoff", ["no area"],
                            "the square and a face along its edge through the midpoint: zero area"),
+        "notch": ([[0, 1, 2], [0, 2, 8], [0, 8, 3]], ["manifoldness"], "gross", ["do not tile", "not on the hull edge"],
+                  "convex faces whose boundary cuts in to the inner point 8 between corners 2 and 3: a hole"),
+        "reflex-face": ([[0, 1, 2, 7], [0, 7, 2, 3]], ["convexity"], "roundoff", ["is not a convex polygon"],
+                        "an exact cover of the square by two faces, one with a reflex corner at the inner "
+                        "point 7: only the face test can reject it"),
     }
     for scale in SCALES:
         pts = place(plane, "oblique", scale)

@@ -2,6 +2,7 @@
 # Mutation testing of the verdict-deciding code: hullstress/checker/* and hullstress/contract.py.
 #
 #   pip install -e ".[mutation]" && tools/mutation.sh
+#   tools/mutation.sh 'hullstress.checker.lowdim.*'    # only the mutants whose names match
 #
 # mutmut (configured in pyproject.toml, [tool.mutmut]) plants one mutant at a time and runs
 # only the fast checker tests that reach the mutated function, with the deterministic
@@ -17,9 +18,9 @@ out=reports/mutation
 mkdir -p "$out"
 rm -rf mutants  # no results cached from an earlier checker
 start=$(date +%s)
-HYPOTHESIS_PROFILE=mutation nice -n 10 mutmut run --max-children "$jobs" > "$out/mutmut-run.log" 2>&1 || {
+HYPOTHESIS_PROFILE=mutation nice -n 10 mutmut run --max-children "$jobs" "$@" > "$out/mutmut-run.log" 2>&1 || {
   echo "tools/mutation.sh: mutmut run failed, see $out/mutmut-run.log" >&2
   tail -n 20 "$out/mutmut-run.log" >&2
   exit 2
 }
-python tools/mutation_report.py --seconds "$(( $(date +%s) - start ))" --jobs "$jobs" --out "$out/mutation-report.md"
+python tools/mutation_report.py --seconds "$(( $(date +%s) - start ))" --jobs "$jobs" --scope "$*" --out "$out/mutation-report.md"

@@ -76,8 +76,14 @@ def load_reasons() -> list[dict]:
 
 
 def explain(s: Survivor, reasons: list[dict]) -> str | None:
+    """The first matching reason: by function, then by ``change`` (text in either line) or ``added``
+    (text in the mutated line only: a reason for one mutation of a line, not for all of its others)."""
     for r in reasons:
         if not fnmatch.fnmatchcase(s.function, r["function"]):
+            continue
+        if "added" in r:
+            if r["added"] in s.added:
+                return r["reason"]
             continue
         change = r.get("change", "*")
         if change == "*" or change in s.added or change in s.removed:
@@ -108,6 +114,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--out", type=Path, default=Path("reports/mutation/mutation-report.md"))
     parser.add_argument("--seconds", type=int, default=None, help="wall time of the run, for the report")
     parser.add_argument("--jobs", type=int, default=None, help="mutmut's --max-children, for the report")
+    parser.add_argument("--scope", default="", help="the mutant names the run was restricted to, for the title")
     args = parser.parse_args(argv)
 
     counts, survivors = collect()
@@ -119,7 +126,8 @@ def main(argv: list[str] | None = None) -> int:
     unexplained = [s for s in survivors if s.reason is None]
     score = 100.0 * detected / checked if checked else 0.0
 
-    lines = ["# Mutation testing: hullstress/checker/ and hullstress/contract.py", ""]
+    title = f"mutants {args.scope}" if args.scope else "hullstress/checker/ and hullstress/contract.py"
+    lines = [f"# Mutation testing: {title}", ""]
     run = f"{checked} mutants checked, {detected} killed: **score {score:.1f} %**"
     if args.seconds is not None:
         run += f"; {args.seconds // 60} min {args.seconds % 60} s wall"

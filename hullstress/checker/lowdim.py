@@ -391,7 +391,7 @@ def _judge_flat(faces: FaceSet, hull: LowerHull, rep: np.ndarray, plane: np.ndar
             continue
         reason, at = _walk_problems(walk, hull, plane, lex)
         if reason:
-            found.convexity.append(f"the {name} faces' boundary: {reason}")
+            found.manifoldness.append(f"the {name} faces do not tile the polygon: their boundary: {reason}")
             found.n_misordered += len(at)
             found.add("misordered_vertices", at)
 
