@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .predicates import filter2, filter3, orient2d, orient2d_value, orient3d, orient3d_value
+from .predicates import filter2, filter3, orient2d_value, orient3d_value
 from .rank import witness_simplex
 
 __all__ = [
@@ -163,20 +163,6 @@ class Interior:
     @property
     def rows(self) -> list[np.ndarray]:
         return list(self.simplex)
-
-    def approx_is_inside_simplex(self) -> bool:
-        """Exactly: is the rounded centroid strictly inside the simplex?"""
-        s, o = self.simplex, self.approx
-        if len(s) == 3 and s.shape[1] == 2:
-            ref = orient2d(s[0], s[1], s[2])[0]
-            faces = [(s[0], s[1]), (s[1], s[2]), (s[2], s[0])]
-            return all(orient2d(a, b, o)[0] == ref for a, b in faces)
-        if len(s) == 4 and s.shape[1] == 3:
-            ref = orient3d(s[0], s[1], s[2], s[3])[0]
-            faces = [(s[0], s[1], s[2], s[3]), (s[1], s[2], s[3], s[0]), (s[2], s[3], s[0], s[1]), (s[3], s[0], s[1], s[2])]
-            # Each facet of the simplex, with the opposite vertex as the reference side.
-            return all(orient3d(a, b, c, o)[0] == orient3d(a, b, c, x)[0] != 0 for a, b, c, x in faces) and ref != 0
-        return False
 
 
 def triangle_array(faces) -> np.ndarray | None:
