@@ -27,13 +27,14 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import subprocess
 import sys
 import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
+
+from _bench_common import load_average, parse_workers  # a sibling: benchmarks run as scripts
 
 #: The phases ``run.json`` times, in order.
 PHASES = ("generate", "sweep", "triage", "report")
@@ -54,23 +55,6 @@ class Measured:
 
     def seconds(self, what: str) -> float:
         return self.wall if what == "end to end" else self.start_up if what == "start-up" else self.phases.get(what, 0.0)
-
-
-def _parse_workers(text: str) -> list[int]:
-    try:
-        counts = [int(x) for x in text.split(",") if x.strip()]
-    except ValueError:
-        raise SystemExit(f"--workers must be comma-separated integers, got {text!r}") from None
-    if not counts or min(counts) < 1:
-        raise SystemExit(f"--workers must list worker counts of at least 1, got {text!r}")
-    return counts
-
-
-def _load() -> str:
-    try:
-        return ", ".join(f"{x:.2f}" for x in os.getloadavg()) + f" (1, 5, 15 min) on {os.cpu_count()} CPUs"
-    except OSError:
-        return "unknown"
 
 
 def run_once(args: argparse.Namespace, workers: int, out: Path) -> Measured:
@@ -110,7 +94,7 @@ def table(results: list[Measured]) -> str:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--profile", default="quick", help="sweep profile (default quick)")
-    parser.add_argument("--workers", default="1,2", type=_parse_workers, help="worker counts (default 1,2)")
+    parser.add_argument("--workers", default="1,2", type=parse_workers, help="worker counts (default 1,2)")
     parser.add_argument("--repeat", type=int, default=1, help="rounds over the worker counts; best kept (default 1)")
     parser.add_argument("--algorithm", action="append", default=[], help="only this algorithm (repeatable)")
     parser.add_argument("--generator", action="append", default=[], help="only this generator (repeatable)")
@@ -119,7 +103,7 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     if args.repeat < 1:
         raise SystemExit(f"--repeat must be at least 1, got {args.repeat}")
-    print(f"load average before: {_load()}")
+    print(f"load average before: {load_average()}")
     best: dict[int, Measured] = {}
     with tempfile.TemporaryDirectory(prefix="hullstress-bench-pipeline-") as tmp:
         for r in range(args.repeat):
@@ -128,7 +112,7 @@ def main(argv: list[str] | None = None) -> int:
                 print(f"  round {r + 1}, {workers} workers: {got.wall:.1f} s", file=sys.stderr)
                 if workers not in best or got.wall < best[workers].wall:
                     best[workers] = got
-    print(f"load average after: {_load()}\n")
+    print(f"load average after: {load_average()}\n")
     print(f"## `python -m hullstress run --profile {args.profile} --seed {args.seed}` end to end\n")
     print(table([best[w] for w in args.workers]))
     return 0

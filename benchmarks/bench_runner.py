@@ -56,15 +56,7 @@ from hullstress.results import ResultRow
 from hullstress.runner import ExecutionStats, RunnerOptions, Task, execute
 from hullstress.sweep import SweepOptions, build_tasks
 
-
-def _parse_workers(text: str) -> list[int]:
-    try:
-        counts = [int(x) for x in text.split(",") if x.strip()]
-    except ValueError:
-        raise SystemExit(f"--workers must be comma-separated integers, got {text!r}") from None
-    if not counts or min(counts) < 1:
-        raise SystemExit(f"--workers must list worker counts of at least 1, got {text!r}")
-    return counts
+from _bench_common import load_average, parse_workers  # a sibling: benchmarks run as scripts
 
 
 def _warm_up(tasks: list[Task]) -> float:
@@ -111,7 +103,7 @@ def _by_algorithm(per_algorithm: dict[str, list[float]], top: int = 8) -> None:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--profile", default="quick", help="sweep profile (default quick)")
-    parser.add_argument("--workers", default="1,2", type=_parse_workers, help="worker counts to compare (default 1,2)")
+    parser.add_argument("--workers", default="1,2", type=parse_workers, help="worker counts to compare (default 1,2)")
     parser.add_argument("--repeat", type=int, default=1, help="runs per worker count; the best is kept (default 1)")
     parser.add_argument("--algorithm", action="append", default=[], help="only this algorithm (repeatable)")
     parser.add_argument("--generator", action="append", default=[], help="only this generator (repeatable)")
@@ -121,20 +113,13 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--no-sweep", action="store_true", help="skip the sweep-only measurement")
     parser.add_argument("--no-end-to-end", action="store_true", help="skip the end-to-end measurement")
     args = parser.parse_args(argv)
-    print(f"load average before: {_load()}\n")
+    print(f"load average before: {load_average()}\n")
     if not args.no_sweep:
         _sweep_table(args)
     if not args.no_end_to_end:
         _end_to_end_table(args)
-    print(f"load average after: {_load()}")
+    print(f"load average after: {load_average()}")
     return 0
-
-
-def _load() -> str:
-    try:
-        return ", ".join(f"{x:.2f}" for x in os.getloadavg()) + f" (1, 5, 15 min) on {os.cpu_count()} CPUs"
-    except OSError:
-        return "unknown"
 
 
 def _end_to_end(args: argparse.Namespace, workers: int, out: Path) -> tuple[float, dict]:
