@@ -1,10 +1,17 @@
-"""Helpers every benchmark script shares: worker-count arguments and the machine's load."""
+"""Helpers the benchmark scripts share: worker-count arguments, the machine's load, a timed whole run."""
 
 from __future__ import annotations
 
+import argparse
+import json
 import os
+import subprocess
+import sys
+import time
+from collections.abc import Sequence
+from pathlib import Path
 
-__all__ = ["parse_workers", "load_average"]
+__all__ = ["parse_workers", "load_average", "timed_run"]
 
 
 def parse_workers(text: str) -> list[int]:
@@ -24,3 +31,24 @@ def load_average() -> str:
         return ", ".join(f"{x:.2f}" for x in os.getloadavg()) + f" (1, 5, 15 min) on {os.cpu_count()} CPUs"
     except OSError:
         return "unknown"
+
+
+def timed_run(args: argparse.Namespace, workers: int, out: Path, plugins: Sequence[str] = ()) -> tuple[float, dict]:
+    """One ``python -m hullstress run`` with ``workers``, timed from outside: its wall time and its run.json.
+
+    ``args`` carries ``profile``, ``seed``, ``algorithm``, ``generator`` and ``timeout`` (the benchmarks'
+    common options); a run that exits other than 0 or 1 ends the benchmark with its stderr tail.
+    """
+    cmd = [sys.executable, "-m", "hullstress", "run", "--profile", args.profile, "--seed", str(args.seed),
+           "--workers", str(workers), "--out", str(out), "--quiet"]
+    cmd += [f"--algorithm={a}" for a in args.algorithm] + [f"--generator={g}" for g in args.generator]
+    cmd += [f"--plugin={p}" for p in plugins]
+    if args.timeout is not None:
+        cmd += ["--timeout", str(args.timeout)]
+    start = time.perf_counter()
+    proc = subprocess.run(cmd, capture_output=True, text=True)
+    wall = time.perf_counter() - start
+    if proc.returncode not in (0, 1):
+        raise SystemExit(f"{' '.join(cmd)} exited {proc.returncode}: {proc.stderr[-2000:]}")
+    run_dir = Path([ln for ln in proc.stdout.splitlines() if ln.startswith("report: ")][-1].split(": ", 1)[1])
+    return wall, json.loads((run_dir / "run.json").read_text())

@@ -26,15 +26,12 @@ speed-ups, measured in the same run, much less.
 from __future__ import annotations
 
 import argparse
-import json
-import subprocess
 import sys
 import tempfile
-import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from _bench_common import load_average, parse_workers  # a sibling: benchmarks run as scripts
+from _bench_common import load_average, parse_workers, timed_run  # a sibling: benchmarks run as scripts
 
 #: The phases ``run.json`` times, in order.
 PHASES = ("generate", "sweep", "triage", "report")
@@ -59,18 +56,7 @@ class Measured:
 
 def run_once(args: argparse.Namespace, workers: int, out: Path) -> Measured:
     """One ``python -m hullstress run`` with ``workers``, timed from outside; its run.json read back."""
-    cmd = [sys.executable, "-m", "hullstress", "run", "--profile", args.profile, "--seed", str(args.seed),
-           "--workers", str(workers), "--out", str(out), "--quiet"]
-    cmd += [f"--algorithm={a}" for a in args.algorithm] + [f"--generator={g}" for g in args.generator]
-    if args.timeout is not None:
-        cmd += ["--timeout", str(args.timeout)]
-    start = time.perf_counter()
-    proc = subprocess.run(cmd, capture_output=True, text=True)
-    wall = time.perf_counter() - start
-    if proc.returncode not in (0, 1):
-        raise SystemExit(f"{' '.join(cmd)} exited {proc.returncode}: {proc.stderr[-2000:]}")
-    run_dir = Path([ln for ln in proc.stdout.splitlines() if ln.startswith("report: ")][-1].split(": ", 1)[1])
-    meta = json.loads((run_dir / "run.json").read_text())
+    wall, meta = timed_run(args, workers, out)
     return Measured(workers=workers, wall=wall, phases={p: float(meta.get("phase_seconds", {}).get(p, 0.0))
                                                         for p in PHASES}, triage=meta.get("triage") or {})
 

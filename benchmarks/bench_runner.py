@@ -43,9 +43,7 @@ A second table splits the last run's busy time by algorithm.
 from __future__ import annotations
 
 import argparse
-import json
 import os
-import subprocess
 import sys
 import tempfile
 import time
@@ -56,7 +54,7 @@ from hullstress.results import ResultRow
 from hullstress.runner import ExecutionStats, RunnerOptions, Task, execute
 from hullstress.sweep import SweepOptions, build_tasks
 
-from _bench_common import load_average, parse_workers  # a sibling: benchmarks run as scripts
+from _bench_common import load_average, parse_workers, timed_run  # a sibling: benchmarks run as scripts
 
 
 def _warm_up(tasks: list[Task]) -> float:
@@ -124,19 +122,7 @@ def main(argv: list[str] | None = None) -> int:
 
 def _end_to_end(args: argparse.Namespace, workers: int, out: Path) -> tuple[float, dict]:
     """One ``python -m hullstress run`` with ``workers``: its wall time and its run.json."""
-    cmd = [sys.executable, "-m", "hullstress", "run", "--profile", args.profile, "--seed", str(args.seed),
-           "--workers", str(workers), "--out", str(out), "--quiet"]
-    cmd += [f"--algorithm={a}" for a in args.algorithm] + [f"--generator={g}" for g in args.generator]
-    cmd += [f"--plugin={p}" for p in args.plugin]
-    if args.timeout is not None:
-        cmd += ["--timeout", str(args.timeout)]
-    start = time.perf_counter()
-    proc = subprocess.run(cmd, capture_output=True, text=True)
-    wall = time.perf_counter() - start
-    if proc.returncode not in (0, 1):
-        raise SystemExit(f"{' '.join(cmd)} exited {proc.returncode}: {proc.stderr[-2000:]}")
-    run_dir = Path([ln for ln in proc.stdout.splitlines() if ln.startswith("report: ")][-1].split(": ", 1)[1])
-    return wall, json.loads((run_dir / "run.json").read_text())
+    return timed_run(args, workers, out, plugins=args.plugin)
 
 
 def _end_to_end_table(args: argparse.Namespace) -> None:
