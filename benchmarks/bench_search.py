@@ -41,6 +41,7 @@ import numpy as np
 from scipy.spatial import ConvexHull
 
 from hullstress import register_algorithm
+from hullstress.adapters.scipy_qhull import qhull_3d
 
 PLANTED = ("planted-size-threshold", "planted-ulp-pair", "planted-near-degenerate", "planted-offset")
 
@@ -75,12 +76,7 @@ def ulp_pair(points):
         same = (s[1:, others] == s[:-1, others]).all(axis=1)
         if (same & (np.nextafter(s[:-1, axis], np.inf) == s[1:, axis])).any() and _repeats(points):
             raise PlantedBug("ulp-pair")
-    hull = ConvexHull(points)
-    faces = hull.simplices.copy()
-    a, b, c = (points[faces[:, k]] for k in range(3))
-    inward = np.einsum("ij,ij->i", np.cross(b - a, c - a), hull.equations[:, :3]) < 0
-    faces[inward] = faces[inward][:, ::-1]
-    return faces
+    return qhull_3d(points, None)  # the scipy adapter's outward triangles
 
 
 def near_degenerate(points):
