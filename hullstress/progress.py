@@ -17,8 +17,6 @@ from .records import FAILED_STATUSES
 
 __all__ = ["ProgressBar", "PhaseProgress", "progress_enabled"]
 
-#: Statuses that count as failures (as in the report).
-_FAILED = FAILED_STATUSES
 #: Seconds between redraws of the fallback counter.
 _REDRAW_SECONDS = 0.5
 
@@ -89,7 +87,7 @@ class ProgressBar:
     def update(self, row: ResultRow) -> None:
         """Count one finished call."""
         self.done += 1
-        failed = row.get("status") in _FAILED
+        failed = row.get("status") in FAILED_STATUSES
         self.failed += failed
         if not self.enabled:
             return

@@ -70,8 +70,9 @@ class Status(_Word):
     CRASH = "crash"
 
 
-#: The statuses that count as failures (everything but pass and rejected).
-FAILED_STATUSES = frozenset({Status.FAIL, Status.ERROR, Status.TIMEOUT, Status.CRASH})
+#: The statuses that count as failures (everything but pass and rejected), in table order; members equal
+#: their strings, so ``"fail" in FAILED_STATUSES`` and ``column.isin(FAILED_STATUSES)`` both work.
+FAILED_STATUSES = (Status.FAIL, Status.ERROR, Status.TIMEOUT, Status.CRASH)
 
 
 class Severity(_Word):

@@ -94,7 +94,7 @@ class SweepResult:
 
     @property
     def n_failed(self) -> int:
-        return int(self.table["status"].isin([s.value for s in FAILED_STATUSES]).sum())
+        return int(self.table["status"].isin(FAILED_STATUSES).sum())
 
 
 def case_seed(base_seed: int, family: str, params_json: str, dim: int, size: int | None, replicate: int) -> int:

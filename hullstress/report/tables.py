@@ -10,13 +10,11 @@ from __future__ import annotations
 
 import pandas as pd
 
-from ..records import FAILED_STATUSES as _FAILED, Stage, Status
+from ..records import FAILED_STATUSES, Stage
 from ..results import STATUSES
 
 __all__ = ["FAILED_STATUSES", "STAGE_COUNT_COLUMNS", "stages", "failed_mask", "status_counts", "failure_counts"]
 
-#: Statuses that count as a failure of the code under test.
-FAILED_STATUSES = tuple(s.value for s in Status if s in _FAILED)
 #: Failure counts per stage, as columns of :func:`status_counts`.
 STAGE_COUNT_COLUMNS = {Stage.ALGORITHM: "failed", Stage.PREPROCESS: "method_failed", Stage.CHECK: "internal_errors"}
 

@@ -34,14 +34,12 @@ from dataclasses import asdict, dataclass
 from typing import Any
 
 from ..config import AlgorithmConfig
-from ..records import CONTRACT_REASON, FAILED_STATUSES as _FAILED, METHOD_REASON, NO_EPS, Stage, Status
+from ..records import CONTRACT_REASON, FAILED_STATUSES, METHOD_REASON, NO_EPS, Stage, Status
 from ..verdict import CHECKS
 
 __all__ = ["Signature", "failed_check", "failed_checks_of", "signature_of", "stage_of", "FAILED_STATUSES",
            "FAILED_CHECKS", "DEFAULT_STAGE"]
 
-#: Statuses that are failures of the code under test (``rejected`` is acceptable behaviour).
-FAILED_STATUSES = tuple(s.value for s in Status if s in _FAILED)
 #: The stage of a row that does not say (tables written before the ``stage`` column).
 DEFAULT_STAGE = Stage.ALGORITHM.value
 
