@@ -234,6 +234,33 @@ def test_literal_key_ends_at_the_guard_on_random_clouds_and_the_variant_solves_t
     assert_closed_outward_hull(pts, henckel_normalised_hull(pts, seed=direction_seed))
 
 
+@pytest.mark.parametrize("variant", [LITERAL, NORMALISED], ids=lambda v: v.name)
+@pytest.mark.parametrize("n, seed", [(24, 1), (60, 2), (100, 3)])
+def test_an_edge_that_comes_back_is_answered_from_the_memo_with_the_same_face(monkeypatch, variant, n, seed):
+    # Steps 5-10 depend only on the edge, so the trace remembers each edge's
+    # face: _find_face runs once per distinct edge, and every face in the
+    # trace is exactly what a fresh _find_face gives for the edge it was built on.
+    pts = random_cloud(seed, n, "ball")
+    eps = tolerance(pts, "scaled")
+    calls: Counter = Counter()
+
+    def counted(points, a, b, *args):
+        calls[(a, b)] += 1
+        return _find_face(points, a, b, *args)
+
+    monkeypatch.setattr(henckel, "_find_face", counted)
+    try:
+        trace = _henckel_trace(pts, eps, np.random.default_rng(seed), variant)
+        faces, edges = trace.faces, trace.face_edges
+    except AlgorithmStepLimit:
+        faces = edges = None
+    assert calls and max(calls.values()) == 1
+    if edges is not None:
+        assert set(calls) == set(edges)
+        for face, (a, b) in zip(faces, edges):
+            assert face == _find_face(pts, a, b, eps, henckel._pivot_limit(n), variant)[0]
+
+
 def test_literal_face_order_is_the_ascending_key_over_the_whole_face():
     # The face list is every on-plane point, B included, sorted by the key as
     # written (stable: ties in index order), on an exact input with a 9-point face.
