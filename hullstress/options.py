@@ -158,7 +158,8 @@ PROFILES: Mapping[str, Profile] = MappingProxyType(
             sizes=MappingProxyType({2: (8, 24, 100), 3: (8, 24, 100)}),
             rotate_sizes=True,
             replicates=1,
-            timeout=10.0,
+            # The slowest call that ends takes under 0.5 s at these sizes; a hang costs a worker this long.
+            timeout=5.0,
             # Measured on 2 shared cores: ~80 s end to end with 2 workers (sweep ~25 s, triage ~50 s for
             # 418 groups and ~8500 evaluations); 30 per group lets a 24-point case lose its extra points.
             triage=TriageBudget(calls=12_000, group_calls=30, hang_calls=0, pictures=12, safety_seconds=600.0),
