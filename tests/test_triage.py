@@ -297,6 +297,49 @@ def test_canonical_key_tells_different_inputs_apart():
     assert canonical_form(chiral) != canonical_form(chiral * np.array([-1.0, 1.0]))
 
 
+def _rational_form(points: np.ndarray) -> tuple:
+    """The documented canonical form the plain way, with fractions (shares nothing with the code)."""
+    import itertools
+    from fractions import Fraction
+
+    exact = [[Fraction(float(x)) for x in row] for row in points]
+    d = points.shape[1]
+    lows = [min(row[j] for row in exact) for j in range(d)]
+    shifted = [[row[j] - lows[j] for j in range(d)] for row in exact]
+    peak = max(x for row in shifted for x in row)
+    if peak > 0:
+        e = 0
+        while Fraction(2) ** e > peak:
+            e -= 1
+        while Fraction(2) ** (e + 1) <= peak:
+            e += 1
+        shifted = [[x / Fraction(2) ** e for x in row] for row in shifted]
+    return min(tuple(sorted(tuple(row[j] for j in perm) for row in shifted))
+               for perm in itertools.permutations(range(d)))
+
+
+_coordinate = st.one_of(st.integers(-8, 8).map(float), st.floats(-1e3, 1e3, allow_subnormal=True),
+                        st.floats(-1e-300, 1e-300), st.sampled_from([1e300, -1e300, 5e-324, 0.1, 1 / 3]))
+
+
+@given(st.integers(2, 3).flatmap(lambda d: st.lists(st.lists(_coordinate, min_size=d, max_size=d),
+                                                       min_size=1, max_size=6)))
+@example([[0.0, 0.0], [0.0, 0.0]])
+@example([[1e300, -1e300], [5e-324, 0.0]])
+def test_canonical_form_is_the_rational_form_over_one_power_of_two(rows):
+    # The integer form must decode to exactly the documented rational form:
+    # axis minima subtracted, the peak scaled into [1, 2), rows sorted, the least axis order.
+    from fractions import Fraction
+
+    pts = np.array(rows, dtype=np.float64)
+    kind, d, s, form = canonical_form(pts)
+    assert kind == "exact" and d == pts.shape[1]
+    scale = Fraction(2) ** -s
+    assert tuple(tuple(Fraction(x) * scale for x in row) for row in form) == _rational_form(pts)
+    flat = [x for row in form for x in row]
+    assert all(x == 0 for x in flat) or any(x % 2 for x in flat)  # reduced: one key per class
+
+
 # --------------------------------------------------------------------------- coordinate simplification
 
 

@@ -8,11 +8,11 @@ Two point sets are the same input for triage when one becomes the other by
 * a permutation of the coordinate axes (``permute-axes``).
 
 :func:`canonical_form` maps every point set of such a class to one
-representative, computed exactly with rationals (a translation is rarely
-exact in floating point, so it is never applied to the doubles): subtract
-each axis's minimum, divide by the power of two that puts the largest
-coordinate in [1, 2), sort the rows, and take the smallest of the forms
-over every order of the axes.  :func:`canonical_key` is its digest.
+representative, computed exactly (a translation is rarely exact in floating
+point, so it is never applied to the doubles; the integers over the input's
+common power-of-two denominator are): subtract each axis's minimum, divide
+by the power of two that puts the largest coordinate in [1, 2), sort the
+rows, and take the smallest of the forms over every order of the axes.  :func:`canonical_key` is its digest.
 
 Reflections (``reflect``) are left out on purpose: an orientation bug may
 show on a point set and not on its mirror image.  Sets with non-finite
@@ -24,20 +24,9 @@ from __future__ import annotations
 
 import hashlib
 import itertools
-from fractions import Fraction
-
 import numpy as np
 
 __all__ = ["canonical_form", "canonical_key"]
-
-
-def _pow2_floor(x: Fraction) -> int:
-    """The integer e with 2**e <= x < 2**(e+1), for x > 0 (exact)."""
-    e = x.numerator.bit_length() - x.denominator.bit_length()
-    # 2**(e-1) < x < 2**(e+1): one comparison settles it.
-    if Fraction(2) ** e > x:
-        e -= 1
-    return e
 
 
 def canonical_form(points: np.ndarray) -> tuple:
@@ -50,8 +39,17 @@ def canonical_form(points: np.ndarray) -> tuple:
     Returns
     -------
     tuple
-        ``("exact", rows)`` with rational coordinates for finite (n, d)
-        arrays, ``("raw", ...)`` otherwise.
+        ``("exact", d, s, rows)`` for finite (n, d) arrays: the canonical
+        coordinates are ``rows[i][j] / 2**s`` exactly, integers over one
+        power-of-two denominator reduced as far as it goes (``s`` may be
+        negative); ``("raw", ...)`` otherwise.
+
+    Notes
+    -----
+    Every double is a dyadic rational, and so is every difference and
+    every quotient by a power of two: over the common denominator of the
+    input the whole computation is integer arithmetic, which is what makes
+    it cheap (rows compare as tuples of Python ints, not of fractions).
 
     Examples
     --------
@@ -61,25 +59,34 @@ def canonical_form(points: np.ndarray) -> tuple:
     True
     >>> canonical_form(a) == canonical_form(a * [1.0, -1.0])  # a reflection is another input
     False
+    >>> canonical_form(a)  # (0, 0), (0, 1/2), (3/2, 0): axes swapped, scaled by 1/2
+    ('exact', 2, 1, ((0, 0), (0, 1), (3, 0)))
     """
     arr = np.asarray(points, dtype=np.float64)
     if arr.ndim != 2 or arr.shape[0] == 0 or not np.isfinite(arr).all():
         rows = sorted(tuple(float(x).hex() for x in row) for row in arr.reshape(len(arr), -1)) if arr.ndim >= 1 else []
         return ("raw", arr.shape, tuple(rows))
-    exact = [[Fraction(float(x)) for x in row] for row in arr]
     d = arr.shape[1]
+    ratios = [[float(x).as_integer_ratio() for x in row] for row in arr.tolist()]
+    denom = max(den for row in ratios for _, den in row)  # a power of two: every other divides it
+    exact = [[num * (denom // den) for num, den in row] for row in ratios]  # coordinates * denom
     lows = [min(row[j] for row in exact) for j in range(d)]
     shifted = [[row[j] - lows[j] for j in range(d)] for row in exact]
-    peak = max((x for row in shifted for x in row), default=Fraction(0))
-    if peak > 0:
-        factor = Fraction(2) ** _pow2_floor(peak)
-        shifted = [[x / factor for x in row] for row in shifted]
+    peak = max((x for row in shifted for x in row), default=0)
+    # Dividing by the power of two that puts the peak in [1, 2): the denominator becomes
+    # 2**(bit_length(peak) - 1), whatever denom was.  Then reduce the common factors of two.
+    s = peak.bit_length() - 1 if peak > 0 else 0
+    nonzero = [x for row in shifted for x in row if x]
+    if nonzero:
+        twos = min((x & -x).bit_length() - 1 for x in nonzero)
+        shifted = [[x >> twos for x in row] for row in shifted]
+        s -= twos
     best = None
     for perm in itertools.permutations(range(d)):
         form = tuple(sorted(tuple(row[j] for j in perm) for row in shifted))
         if best is None or form < best:
             best = form
-    return ("exact", d, best)
+    return ("exact", d, s, best)
 
 
 def canonical_key(points: np.ndarray) -> str:
