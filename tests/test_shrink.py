@@ -126,6 +126,24 @@ def test_coordinates_are_simplified_when_the_failure_survives():
     assert fails_same_way(result.case, config, result.signature)
 
 
+@pytest.mark.parametrize("cap", [0, 3, 8])
+def test_simplifying_stops_at_its_own_budget_with_a_case_that_still_fails(cap):
+    # TriageBudget.simplify_calls: deleting points is not limited by it, simplifying is.
+    rng = np.random.default_rng(3)
+    case = Case(points=rng.uniform(-10, 10, size=(60, 2)), dim=2, family="test-left", seed=3, size=60)
+    config = AlgorithmConfig("test-shrink-left")
+    plain = shrink(case, config, timeout=30, simplify=False)
+    capped = shrink(case, config, timeout=30, simplify_calls=cap)
+    full = shrink(case, config, timeout=30)
+    assert full.calls > plain.calls + 8  # the uncapped passes need more than any cap tried here
+    assert (plain.calls < capped.calls <= plain.calls + cap) if cap else capped.calls == plain.calls
+    assert f"coordinates simplified within {cap} evaluations" in capped.steps
+    assert capped.minimal_size == plain.minimal_size == 3 and not capped.exhausted, capped.note
+    assert capped.verified and fails_same_way(capped.case, config, capped.signature)
+    if cap:  # the first simplifying steps (scale, fewest bits for all) are the ones kept
+        assert int(mantissa_bits(capped.case.points).max()) < int(mantissa_bits(plain.case.points).max())
+
+
 def test_evaluation_budget_stops_early_with_a_case_that_still_fails():
     case = _hidden_case(n=200, seed=1)
     config = AlgorithmConfig("test-shrink-planted-error")

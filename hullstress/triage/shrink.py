@@ -66,6 +66,10 @@ class _Spent(Exception):
     """The evaluation budget of this shrink is spent."""
 
 
+class _SimplifyDone(Exception):
+    """The evaluations allowed for simplifying coordinates are spent (the points are deleted already)."""
+
+
 def derive_case(original: Case, points: np.ndarray) -> Case:
     """A case with new points and the original's provenance plus ``shrunk_from``."""
     params = dict(original.params)
@@ -126,6 +130,10 @@ class Shrinker:
         call is kept for re-running the minimal case at the end.
     simplify : bool
         Run the coordinate passes after deleting points.
+    simplify_calls : int, optional
+        At most this many evaluations for the coordinate passes (within
+        ``max_calls``); when they are spent the case keeps the coordinates
+        simplified so far, and a step says so.
     candidates : sequence of (ndarray, str)
         Inputs to try first, in order, with where each came from: the first
         that fails with ``signature`` is the start instead of ``case``.
@@ -160,10 +168,12 @@ class Shrinker:
 
     def __init__(self, case: Case, signature: Signature, *, max_calls: int, simplify: bool = True,
                  candidates: Sequence[tuple[np.ndarray, str]] = (), qhull: bool = True,
-                 row: ResultRow | None = None) -> None:
+                 row: ResultRow | None = None, simplify_calls: int | None = None) -> None:
         self.case, self.signature = case, signature
         self.max_calls = int(max_calls)
         self.simplify = simplify
+        self.simplify_calls = simplify_calls
+        self._simplify_until: int | None = None  # the evaluation count at which simplifying stops
         self.calls = 0
         self.steps: list[str] = []
         self.phase = "verify"
@@ -269,6 +279,8 @@ class Shrinker:
         if key not in self._cache:
             if self.calls >= self.max_calls - 1:  # the last call is for re-running the minimal case
                 raise _Spent()
+            if self._simplify_until is not None and self.calls >= self._simplify_until:
+                raise _SimplifyDone()
             row = yield (points, self._reference and not self._lazy)
             self.calls += 1
             if self._lazy:
@@ -357,7 +369,15 @@ class Shrinker:
                 self.steps.append("kept as it is: no point of it can go (its coordinates are simplified already)")
             elif self.simplify and self._points.ndim == 2 and self._points.size:
                 self.phase = "simplify"
-                self._points = yield from self._simplify(self._points)
+                if self.simplify_calls is not None:
+                    self._simplify_until = self.calls + self.simplify_calls
+                try:
+                    self._points = yield from self._simplify(self._points)
+                except _SimplifyDone:
+                    self._points = self._best
+                    self.steps.append(f"coordinates simplified within {self.simplify_calls} evaluations")
+                finally:
+                    self._simplify_until = None
             return ""
         except _Spent:
             return (f"evaluation budget ({self.max_calls}) spent while {_PASSES[self.phase]}: "
@@ -443,6 +463,7 @@ def shrink(
     timeout: float | None = None,
     isolate: bool | None = None,
     simplify: bool = True,
+    simplify_calls: int | None = None,
 ) -> ShrinkResult:
     """Minimise ``case`` to a small point set on which ``config`` fails with exactly ``signature``.
 
@@ -464,6 +485,8 @@ def shrink(
         See :func:`~hullstress.triage.oracle.run_config`.
     simplify : bool
         Run the coordinate simplification passes after deleting points.
+    simplify_calls : int, optional
+        At most this many of the evaluations simplify coordinates (None: no separate limit).
 
     Returns
     -------
@@ -485,7 +508,8 @@ def shrink(
             return ShrinkResult(case=case, original=case, signature=sig, original_size=case.n_points,
                                 minimal_size=case.n_points, calls=1, seconds=time.perf_counter() - start,
                                 reproduced=False, note=f"the case does not fail ({row.status})")
-    shrinker = Shrinker(case, signature, max_calls=max_calls, simplify=simplify, row=row)
+    shrinker = Shrinker(case, signature, max_calls=max_calls, simplify=simplify, row=row,
+                        simplify_calls=simplify_calls)
     question = shrinker.ask()
     while question is not None:
         if budget_seconds is not None and time.perf_counter() - start > budget_seconds:

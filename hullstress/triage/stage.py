@@ -311,7 +311,8 @@ class _Triage:
             self.done += 1
             return None
         tries = [(k.points, f"the minimal case of {k.slug}") for k in _ranked(known, g, case.dim)]
-        return Shrinker(case, g.signature, max_calls=cap, candidates=tries, qhull=self.qhull, row=rows.get(i))
+        return Shrinker(case, g.signature, max_calls=cap, candidates=tries, qhull=self.qhull, row=rows.get(i),
+                        simplify_calls=self.budget.simplify_calls)
 
     @staticmethod
     def _learn(members: list[int], groups: list[FailureGroup], results: dict[int, ShrinkResult],
