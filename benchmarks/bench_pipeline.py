@@ -86,15 +86,18 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--generator", action="append", default=[], help="only this generator (repeatable)")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--timeout", type=float, default=None, help="per-call timeout (default: the profile's)")
+    parser.add_argument("--keep", type=Path, default=None, metavar="DIR",
+                        help="write the runs' report folders under DIR and keep them (default: a temporary folder)")
     args = parser.parse_args(argv)
     if args.repeat < 1:
         raise SystemExit(f"--repeat must be at least 1, got {args.repeat}")
     print(f"load average before: {load_average()}")
     best: dict[int, Measured] = {}
     with tempfile.TemporaryDirectory(prefix="hullstress-bench-pipeline-") as tmp:
+        root = args.keep if args.keep is not None else Path(tmp)
         for r in range(args.repeat):
             for workers in args.workers:
-                got = run_once(args, workers, Path(tmp) / f"r{r}-w{workers}")
+                got = run_once(args, workers, root / f"r{r}-w{workers}")
                 print(f"  round {r + 1}, {workers} workers: {got.wall:.1f} s", file=sys.stderr)
                 if workers not in best or got.wall < best[workers].wall:
                     best[workers] = got
