@@ -346,6 +346,21 @@ def test_canonical_form_is_the_rational_form_over_one_power_of_two(rows):
 finite = st.floats(allow_nan=False, allow_infinity=False)
 
 
+@given(st.lists(st.floats(allow_subnormal=True), min_size=1, max_size=12))
+@example([0.0, -0.0, float("inf"), float("nan"), 5e-324, 1.0, 0.1, -3.0, 2.0 ** 1023 * 1.5])
+def test_mantissa_bits_counts_significant_binary_digits(values):
+    # Significant digits of the exact integer mantissa; 0 for zeros and non-finite values.
+    def digits(x: float) -> int:
+        if x == 0 or x != x or x in (float("inf"), float("-inf")):
+            return 0
+        num, den = abs(x).as_integer_ratio()  # den a power of two, num odd unless den == 1
+        while num % 2 == 0:
+            num //= 2
+        return num.bit_length()
+
+    assert mantissa_bits(np.array(values)).tolist() == [digits(v) for v in values]
+
+
 @given(x=finite, bits=st.integers(1, 53))
 def test_round_mantissa_keeps_at_most_bits_and_is_nearest(x, bits):
     r = float(round_mantissa(np.array([x]), bits)[0])

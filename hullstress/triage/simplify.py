@@ -54,16 +54,10 @@ def mantissa_bits(values: np.ndarray) -> np.ndarray:
     out = np.zeros(arr.shape, dtype=np.int64)
     finite = np.isfinite(arr) & (arr != 0)
     mant, _ = np.frexp(arr[finite])
-    ints = np.abs(np.ldexp(mant, 53)).astype(np.uint64)  # exact: a 53-bit integer
-    tz = np.zeros(ints.shape, dtype=np.int64)
-    work = ints.copy()
-    for _ in range(53):
-        even = (work & np.uint64(1)) == 0
-        if not even.any():
-            break
-        tz += even
-        work = np.where(even, work >> np.uint64(1), work)
-    out[finite] = 53 - tz
+    ints = np.abs(np.ldexp(mant, 53)).astype(np.uint64)  # exact: a 53-bit integer, never 0
+    lowest = ints & (~ints + np.uint64(1))  # its lowest set bit, 2**(trailing zeros)
+    _, expo = np.frexp(lowest.astype(np.float64))  # exact for a power of two: 2**k = 0.5 * 2**(k + 1)
+    out[finite] = 53 - (expo.astype(np.int64) - 1)
     return out
 
 
