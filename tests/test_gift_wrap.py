@@ -24,6 +24,7 @@ accept the documented outcome set.
 
 from __future__ import annotations
 
+import contextlib
 import doctest
 import itertools
 import math
@@ -253,8 +254,9 @@ def test_bad_calls_raise_value_error(name, points, eps, message):
     kind=st.sampled_from(["ball", "cube", "gauss", "int-grid", "flat", "duplicates"]),
     policy=st.sampled_from(["scaled", "fixed"]),
     dedup=st.booleans(),
+    whole=st.booleans(),
 )
-def test_same_triangles_as_the_seeds_double_loops(n, seed, kind, policy, dedup):
+def test_same_triangles_as_the_seeds_double_loops(n, seed, kind, policy, dedup, whole):
     rng = np.random.default_rng(seed)
     if kind == "int-grid":  # coplanar and collinear runs, repeated points
         pts = rng.integers(0, 3, size=(n, 3)).astype(float)
@@ -270,10 +272,11 @@ def test_same_triangles_as_the_seeds_double_loops(n, seed, kind, policy, dedup):
     try:
         expected = reference_gift_wrap(pts, eps, dedup=dedup)
     except RuntimeError:
-        with pytest.raises(RuntimeError, match="step 2 found no first edge"):
+        with pytest.raises(RuntimeError, match="step 2 found no first edge"), _candidate_scan(whole):
             func(pts, eps=eps)
         return
-    assert [tuple(t) for t in func(pts, eps=eps).tolist()] == expected
+    with _candidate_scan(whole):
+        assert [tuple(t) for t in func(pts, eps=eps).tolist()] == expected
 
 
 @given(
@@ -281,8 +284,9 @@ def test_same_triangles_as_the_seeds_double_loops(n, seed, kind, policy, dedup):
     seed=st.integers(0, 2**32 - 1),
     nan_rows=st.integers(0, 5),
     eps=st.sampled_from([0.0, 0.05, 0.3]),
+    whole=st.booleans(),
 )
-def test_first_passing_matches_a_sequential_scan(n, seed, nan_rows, eps):
+def test_first_passing_matches_a_sequential_scan(n, seed, nan_rows, eps, whole):
     # Random planes, not geometry: most candidates fail, which drives the
     # block scan and the violator filter through every branch.
     rng = np.random.default_rng(seed)
@@ -297,7 +301,19 @@ def test_first_passing_matches_a_sequential_scan(n, seed, nan_rows, eps):
         if not (d > eps).any():
             expected = int(c)
             break
-    assert _first_passing(q, nrm, cand, eps) == expected
+    with _candidate_scan(whole, at_any_size=True):
+        assert _first_passing(q, nrm, cand, eps) == expected
+
+
+@contextlib.contextmanager
+def _candidate_scan(whole: bool, *, at_any_size: bool = False):
+    """Force one of _first_passing's two paths: every candidate in one block, or the pivoting scan."""
+    saved = gift_wrap._WHOLE_BUDGET
+    gift_wrap._WHOLE_BUDGET = (10**12 if at_any_size else saved) if whole else 0
+    try:
+        yield
+    finally:
+        gift_wrap._WHOLE_BUDGET = saved
 
 
 # --------------------------------------------------------------------------- hull properties

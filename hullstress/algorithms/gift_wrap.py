@@ -82,9 +82,12 @@ passes" is found by pivoting to the farthest point above (ordinary gift
 wrapping, a few O(n) passes), using the points met on the way to reject most
 candidates at once (a candidate with any point at ``d > eps`` fails, whoever
 finds that point), then checking the survivors below the pivot winner with the
-full test, in index order, in bounded blocks.  Every distance is computed with
-the same elementwise float operations in the same order, so the choice is
-bit-for-bit that of the sequential double loop.
+full test, in index order, in bounded blocks.  On small inputs (at most
+``_WHOLE_BUDGET`` distances, about 128 points) every candidate is tested in
+one block instead: one pass over a few thousand distances costs less than the
+pivoting's dozens of small ones.  Every distance is computed with the same
+elementwise float operations in the same order, so the choice is bit-for-bit
+that of the sequential double loop, on either path.
 """
 
 from __future__ import annotations
@@ -106,6 +109,8 @@ _BLOCK_BUDGET = 2_000_000
 _MAX_BLOCK = 256
 #: Pivots tried before falling back to the ordered block scan alone.
 _MAX_PIVOTS = 64
+#: Up to this many distances (points x candidates), every candidate is tested in one block.
+_WHOLE_BUDGET = 16_384
 
 
 @dataclass(frozen=True)
@@ -201,6 +206,11 @@ def _first_passing(q: np.ndarray, nrm: np.ndarray, cand: np.ndarray, eps: float)
     idx = np.flatnonzero(cand)
     if idx.size == 0:
         return -1
+    if len(q) * idx.size <= _WHOLE_BUDGET:
+        # Small inputs: the double loop's answer by definition, in one block of distances,
+        # cheaper than the dozens of small passes of the pivoting below.
+        bad = (_signed(q, nrm[idx]) > eps).any(axis=0)
+        return -1 if bad.all() else int(idx[int(np.argmin(bad))])
     # Pivot phase: ordinary gift wrapping towards the farthest point above.
     # It finds a passing candidate (the "winner") and, on the way, points that
     # lie above many candidate planes.
