@@ -23,7 +23,7 @@ from scipy.spatial import ConvexHull
 
 from hullstress import _registry
 from hullstress.algorithms import kenwright
-from hullstress.algorithms.kenwright import kenwright_hull
+from hullstress.algorithms.kenwright import _cross, kenwright_hull
 from hullstress.case import Case
 from hullstress.config import AlgorithmConfig
 from hullstress.contract import FaceSet, canonical_output
@@ -357,3 +357,19 @@ def test_docstring_examples_run_as_printed(module):
     # The examples document the seed's behaviour, weak spots included.
     result = doctest.testmod(module, optionflags=doctest.ELLIPSIS, verbose=False)
     assert result.attempted > 0 and result.failed == 0
+
+
+_component = st.one_of(st.floats(allow_nan=True, allow_infinity=True, allow_subnormal=True),
+                       st.floats(-1e3, 1e3))
+
+
+@given(st.lists(st.tuples(*[_component] * 6), min_size=1, max_size=8))
+def test_cross_is_two_products_and_one_difference_per_component(rows):
+    # IEEE double products and differences, one rounding each: Python floats give the same bits.
+    u = np.array([r[:3] for r in rows])
+    v = np.array([r[3:] for r in rows])
+    with np.errstate(all="ignore"):
+        got = _cross(u, v)
+    for (a0, a1, a2, b0, b1, b2), row in zip(rows, got.tolist()):
+        expected = [a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0]
+        assert [x if x == x else "nan" for x in row] == [x if x == x else "nan" for x in expected]

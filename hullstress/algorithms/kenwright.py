@@ -87,10 +87,17 @@ def _dot(rows: np.ndarray, v: np.ndarray) -> np.ndarray:
     return rows[:, 0] * v[..., 0] + rows[:, 1] * v[..., 1] + rows[:, 2] * v[..., 2]
 
 
+def _cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """Row-wise ``u x v``: each component two products and one difference (numpy.cross's operations, without its set-up)."""
+    return np.stack([u[:, 1] * v[:, 2] - u[:, 2] * v[:, 1],
+                     u[:, 2] * v[:, 0] - u[:, 0] * v[:, 2],
+                     u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]], axis=1)
+
+
 def _face_planes(pts: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Unit normals (zero for degenerate faces) and offsets ``n . a`` of ``faces``."""
     a, b, c = pts[faces[:, 0]], pts[faces[:, 1]], pts[faces[:, 2]]
-    normals = np.cross(b - a, c - a)
+    normals = _cross(b - a, c - a)
     length = np.sqrt(_dot(normals, normals))
     ok = length > 0.0
     normals[ok] /= length[ok, None]
