@@ -279,9 +279,9 @@ def _is_empty(faces: np.ndarray | FaceSet) -> bool:
 class _Judged(Exception):
     """A judgement ended early in a row (contract violation, checker error)."""
 
-    def __init__(self, status: str, stage: Stage, reason: str, check_seconds: float = 0.0) -> None:
+    def __init__(self, status: str, stage: Stage, reason: str) -> None:
         super().__init__(reason)
-        self.status, self.stage, self.reason, self.check_seconds = status, stage, reason, check_seconds
+        self.status, self.stage, self.reason = status, stage, reason
 
 
 # Many configs of one case return the same output (eps scaled and fixed, a variant
@@ -357,14 +357,12 @@ def _fresh_verdict(points: np.ndarray, faces: np.ndarray | FaceSet, facts: CaseF
 
 def _judged_verdict(points: np.ndarray, faces: np.ndarray | FaceSet, facts: CaseFacts, stage: Stage) -> Verdict:
     """:func:`_verdict`, turning its exceptions into a :class:`_Judged` row."""
-    start = time.perf_counter()
     try:
         return _verdict(points, faces, facts)
     except ContractViolation as exc:
         raise _Judged(Status.FAIL, stage, f"{CONTRACT_REASON} {exc}") from None
     except Exception as exc:  # a checker bug must not lose the row, nor blame the algorithm silently
-        raise _Judged(Status.ERROR, Stage.CHECK, f"internal: checker raised {one_line(exc)}",
-                      time.perf_counter() - start) from None
+        raise _Judged(Status.ERROR, Stage.CHECK, f"internal: checker raised {one_line(exc)}") from None
 
 
 def _in_input_rows(verdict: Verdict, index_map: np.ndarray) -> Verdict:
@@ -377,7 +375,7 @@ def _in_input_rows(verdict: Verdict, index_map: np.ndarray) -> Verdict:
     return replace(verdict, offending=offending)
 
 
-def _method_problem(case: Case, facts: CaseFacts, given: CaseFacts) -> str:
+def _method_problem(facts: CaseFacts, given: CaseFacts) -> str:
     """Why the projection cannot give the input's hull whatever the algorithm does ("" if it can)."""
     if given.invalid_input and not facts.invalid_input:
         return f"the projection left {given.invalid_input} from a valid input"
@@ -398,7 +396,7 @@ def judge(case: Case, config: AlgorithmConfig, outcome: CallOutcome, facts: Case
                         sphere_method=status if sphere else "", **common)
     start = time.perf_counter()
     given = _given_facts(outcome.given, case.dim, facts.reference is not None) if outcome.given is not None else facts
-    problem = _method_problem(case, facts, given) if sphere else ""
+    problem = _method_problem(facts, given) if sphere else ""
     if sphere and outcome.index_map is not None:
         # Why the method would lose the hull, whatever the algorithm does (sphere_causes.py).
         from .sphere_causes import sphere_causes
