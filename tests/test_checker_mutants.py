@@ -1,0 +1,111 @@
+"""The checker's verdict-deciding helpers, pinned where the mutation run found them loose.
+
+Each test here was written against mutants of ``hullstress/checker/`` that
+survived the rest of the fast suite (``tools/mutation.sh``, README "Mutation
+testing").  Every expectation comes from the documented behaviour (the module
+docstrings, DESIGN.md's verdict semantics) or from an independent exact
+computation, never from the checker's own output.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from hullstress.checker.rank import affine_rank, witness_simplex
+from hullstress.checker.severity import ROUNDOFF_MULTIPLE, relative_magnitudes, severity
+
+# --------------------------------------------------------------------------- severity.py
+
+
+def test_relative_magnitudes_of_a_zero_unit():
+    # DISTround 0 (an input of zeros): a positive distance is infinitely many units,
+    # a zero distance (a degenerate face without one) stays 0, never 0/0.
+    assert relative_magnitudes({"outside": 1e-300, "degenerate": 0.0}, 0.0) == {"outside": math.inf, "degenerate": 0.0}
+
+
+def test_relative_magnitudes_of_non_finite_distances():
+    # An overflowed distance (inf, or NaN from inf - inf) is an infinite violation, never
+    # a NaN that every comparison would let through as "not beyond".
+    got = relative_magnitudes({"inf": math.inf, "nan": math.nan, "negative": -1.0}, 1e-16)
+    assert got == {"inf": math.inf, "nan": math.inf, "negative": 0.0}
+
+
+@pytest.mark.parametrize(
+    ("relative", "failed", "topological", "want"),
+    [
+        ({"outside": ROUNDOFF_MULTIPLE}, True, False, "roundoff"),  # "<= ROUNDOFF_MULTIPLE": the bound is roundoff
+        ({"outside": math.nextafter(ROUNDOFF_MULTIPLE, math.inf)}, True, False, "gross"),
+        ({"outside": 0.5, "reflex": 3.0}, True, False, "roundoff"),
+        ({"outside": 0.5}, True, True, "gross"),  # any manifoldness failure is gross
+        ({"outside": 50.0}, False, False, "none"),  # no check failed
+        ({}, True, False, "roundoff"),  # a failure without a distance: magnitude 0
+    ],
+)
+def test_severity_thresholds(relative, failed, topological, want):
+    got, worst = severity(relative, failed=failed, topological=topological)
+    assert got == want
+    assert worst == max(relative.values(), default=0.0)
+
+
+# --------------------------------------------------------------------------- rank.py
+
+
+def test_witness_simplex_of_no_points_is_an_empty_index_array():
+    for d in (2, 3):
+        empty = witness_simplex(np.zeros((0, d)))
+        assert empty.dtype == np.int64 and empty.shape == (0,)
+
+
+def test_affine_rank_near_the_double_range_is_exact_and_silent():
+    # Spans of 3e308 overflow to inf in the float heuristics; the rank is still exact and
+    # no overflow warning escapes (warnings are errors in this suite).
+    big = 1.5e308
+    assert affine_rank(np.array([[-big, 0.0], [big, 0.0], [0.0, 1.0]])) == 2
+    assert affine_rank(np.array([[-big, 0.0, 0.0], [big, 0.0, 0.0], [0.0, big, 0.0], [0.0, 0.0, -big]])) == 3
+    assert affine_rank(np.array([[-big, -big, 0.0], [big, big, 0.0], [0.0, 0.0, 0.0]])) == 1
+
+
+def _cross2(u, v) -> int:
+    return u[0] * v[1] - u[1] * v[0]
+
+
+def _sub(p, q):
+    return tuple(a - b for a, b in zip(p, q))
+
+
+@pytest.mark.parametrize("offset", [(0, 0, 0), (1000, -3000, 7000)])
+def test_witness_simplex_takes_far_points_first(offset):
+    # "Far points first, so the simplex is fat": the widest axis's two ends, then the
+    # point farthest from their line, then (3D) the point farthest from that plane.  The
+    # candidates' distances differ by large factors, so float rounding cannot reorder them;
+    # the expected indices come from integer arithmetic.  The ends are not first in the
+    # list, and the offset keeps them away from the origin.
+    ints = [(10, 1, 0), (50, 30, 2), (90, 2, 1), (20, -5, 3), (60, 10, 45), (0, 0, 0), (100, 0, 0), (30, 20, -9)]
+    pts = [tuple(a + b for a, b in zip(p, offset)) for p in ints]
+    ends = {5, 6}  # x spans 100, more than y (35) or z (54)
+    a, b = pts[5], pts[6]
+    ab = _sub(b, a)
+    # 2D: the largest |cross| (twice the triangle's area) with the x-axis segment.
+    flat = [p[:2] for p in pts]
+    area2 = [abs(_cross2(ab[:2], _sub(p, flat[5]))) for p in flat]
+    k2 = area2.index(max(area2))
+    assert k2 == 1
+    got2 = witness_simplex(np.array(flat, dtype=np.float64)).tolist()
+    assert set(got2[:2]) == ends and got2[2] == k2
+    # 3D: the largest squared distance from the line, then the largest |orient3d|.
+    def line2(p):
+        c = np.cross(np.array(_sub(p, a), dtype=object), np.array(ab, dtype=object))
+        return int(sum(x * x for x in c))
+
+    dist = [line2(p) for p in pts]
+    k3 = dist.index(max(dist))
+    assert k3 == 4
+    normal = np.cross(np.array(ab, dtype=object), np.array(_sub(pts[k3], a), dtype=object))
+    height = [abs(int(np.dot(normal, np.array(_sub(p, a), dtype=object)))) for p in pts]
+    m3 = height.index(max(height))
+    assert m3 == 1
+    got3 = witness_simplex(np.array(pts, dtype=np.float64)).tolist()
+    assert set(got3[:2]) == ends and got3[2:] == [k3, m3]
