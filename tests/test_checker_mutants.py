@@ -14,6 +14,7 @@ import math
 import numpy as np
 import pytest
 
+from hullstress.checker.extreme import Coordinates, exact_extreme_2d, first_of_each, rows_in
 from hullstress.checker.rank import affine_rank, witness_simplex
 from hullstress.checker.severity import ROUNDOFF_MULTIPLE, relative_magnitudes, severity
 
@@ -83,16 +84,17 @@ def test_witness_simplex_takes_far_points_first(offset):
     # candidates' distances differ by large factors, so float rounding cannot reorder them;
     # the expected indices come from integer arithmetic.  The ends are not first in the
     # list, and the offset keeps them away from the origin.
-    ints = [(10, 1, 0), (50, 30, 2), (90, 2, 1), (20, -5, 3), (60, 10, 45), (0, 0, 0), (100, 0, 0), (30, 20, -9)]
+    ints = [(10, 1, 0), (50, 30, 2), (90, 2, 1), (20, -5, 3), (60, 10, 45), (0, 0, 0), (100, 40, 0), (30, 20, -9),
+            (70, 60, 5)]
     pts = [tuple(a + b for a, b in zip(p, offset)) for p in ints]
-    ends = {5, 6}  # x spans 100, more than y (35) or z (54)
+    ends = {5, 6}  # x spans 100, more than y (65) or z (54); their line is oblique
     a, b = pts[5], pts[6]
     ab = _sub(b, a)
-    # 2D: the largest |cross| (twice the triangle's area) with the x-axis segment.
+    # 2D: the largest |cross| (twice the triangle's area) with the segment between the ends.
     flat = [p[:2] for p in pts]
     area2 = [abs(_cross2(ab[:2], _sub(p, flat[5]))) for p in flat]
     k2 = area2.index(max(area2))
-    assert k2 == 1
+    assert k2 == 2
     got2 = witness_simplex(np.array(flat, dtype=np.float64)).tolist()
     assert set(got2[:2]) == ends and got2[2] == k2
     # 3D: the largest squared distance from the line, then the largest |orient3d|.
@@ -106,6 +108,51 @@ def test_witness_simplex_takes_far_points_first(offset):
     normal = np.cross(np.array(ab, dtype=object), np.array(_sub(pts[k3], a), dtype=object))
     height = [abs(int(np.dot(normal, np.array(_sub(p, a), dtype=object)))) for p in pts]
     m3 = height.index(max(height))
-    assert m3 == 1
+    assert m3 == 2
     got3 = witness_simplex(np.array(pts, dtype=np.float64)).tolist()
     assert set(got3[:2]) == ends and got3[2:] == [k3, m3]
+
+
+# --------------------------------------------------------------------------- extreme.py
+
+
+def test_rows_in_compares_by_value():
+    table = np.array([[0.0, 1.0], [2.0, 3.0]])
+    rows = np.array([[-0.0, 1.0], [2.0, 3.0], [2.0, -3.0], [1.0, 0.0]])
+    assert rows_in(rows, table).tolist() == [True, True, False, False]  # -0.0 == 0.0
+    assert rows_in(table, rows).tolist() == [True, True]
+    for got in (rows_in(rows, table[:0]), rows_in(rows[:0], table)):
+        assert got.dtype == bool and got.tolist() == [False] * len(got)
+    assert rows_in(rows, table[:0]).shape == (4,) and rows_in(rows[:0], table).shape == (0,)
+
+
+def test_first_of_each_keeps_the_first_index_of_each_coordinate():
+    pts = np.array([[1.0, 1.0], [0.0, -0.0], [1.0, 1.0], [-0.0, 0.0], [2.0, 0.0]])
+    # The first in the order of idx: (0, 0) first at 3 (-0.0 == 0.0), (1, 1) at 2; sorted.
+    assert first_of_each(pts, np.array([3, 2, 1, 0, 4])).tolist() == [2, 3, 4]
+    assert first_of_each(pts, np.array([4, 3])).tolist() == [3, 4]
+    empty = first_of_each(pts, np.zeros(0, dtype=np.int64))
+    assert empty.dtype == np.int64 and empty.shape == (0,)
+
+
+def test_coordinates_ids_are_by_value():
+    pts = np.array([[0.0, 1.0], [2.0, 3.0], [0.0, 1.0], [-0.0, 1.0], [5.0, 5.0], [2.0, -3.0]])
+    ids = Coordinates(pts, np.array([0, 1, 2]), np.array([3, 5]))
+    assert ids.count == 3  # (0, 1) three times, (2, 3), (2, -3); point 4 not indexed
+    assert ids.distinct(np.array([0, 2, 3])) == 1
+    assert ids.distinct(np.array([0, 1, 5])) == 3
+    assert ids.first_of_each(np.array([3, 2, 1, 5])).tolist() == [1, 3, 5]  # first in the order given
+    groups = ids.groups(np.array([1, 3]))
+    assert len(groups) == 2 and groups.tolist() == sorted(groups.tolist())
+    assert ids.within(np.array([0, 1, 2, 3, 5]), groups).tolist() == [True, True, True, True, False]
+    assert ids.within(np.array([5]), ids.groups(np.array([5]))).tolist() == [True]
+
+
+@pytest.mark.parametrize("scale", [1.0, 2.0**-1000, 2.0**1000])
+def test_exact_extreme_2d_collinear_and_triangle(scale):
+    # Three or more distinct collinear points: the two ends; a triangle: all three, ccw
+    # from the lexicographically smallest.
+    line = np.array([[2.0, 2.0], [0.0, 0.0], [1.0, 1.0], [3.0, 3.0], [1.0, 1.0]]) * scale
+    assert exact_extreme_2d(line).tolist() == [1, 3]
+    tri = np.array([[1.0, 0.0], [0.0, 1.0], [0.0, 0.0], [0.5, 0.25]]) * scale
+    assert exact_extreme_2d(tri).tolist() == [2, 0, 1]
