@@ -85,7 +85,7 @@ def test_witness_simplex_takes_far_points_first(offset):
     # the expected indices come from integer arithmetic.  The ends are not first in the
     # list, and the offset keeps them away from the origin.
     ints = [(10, 1, 0), (50, 30, 2), (90, 2, 1), (20, -5, 3), (60, 10, 45), (0, 0, 0), (100, 40, 0), (30, 20, -9),
-            (70, 60, 5)]
+            (70, 60, 5), (95, 37, 0)]
     pts = [tuple(a + b for a, b in zip(p, offset)) for p in ints]
     ends = {5, 6}  # x spans 100, more than y (65) or z (54); their line is oblique
     a, b = pts[5], pts[6]
@@ -131,8 +131,9 @@ def test_first_of_each_keeps_the_first_index_of_each_coordinate():
     # The first in the order of idx: (0, 0) first at 3 (-0.0 == 0.0), (1, 1) at 2; sorted.
     assert first_of_each(pts, np.array([3, 2, 1, 0, 4])).tolist() == [2, 3, 4]
     assert first_of_each(pts, np.array([4, 3])).tolist() == [3, 4]
-    empty = first_of_each(pts, np.zeros(0, dtype=np.int64))
-    assert empty.dtype == np.int64 and empty.shape == (0,)
+    for none in (np.zeros(0, dtype=np.int64), []):
+        empty = first_of_each(pts, none)
+        assert empty.dtype == np.int64 and empty.shape == (0,)
 
 
 def test_coordinates_ids_are_by_value():
@@ -146,6 +147,17 @@ def test_coordinates_ids_are_by_value():
     assert len(groups) == 2 and groups.tolist() == sorted(groups.tolist())
     assert ids.within(np.array([0, 1, 2, 3, 5]), groups).tolist() == [True, True, True, True, False]
     assert ids.within(np.array([5]), ids.groups(np.array([5]))).tolist() == [True]
+    assert ids.first_of_each([]).dtype == np.int64 and ids.first_of_each([]).shape == (0,)
+    # Index arrays may be lists, and empty (the checker passes an empty extreme set).
+    assert Coordinates(pts, [0, 2], []).count == 1
+
+
+def test_coordinates_tell_tiny_coordinates_apart():
+    # Ids are by exact value at any scale: 1e-20 and 2e-20 are different coordinates.
+    pts = np.array([[1e-20, 0.0], [2e-20, 0.0], [1e-20, -0.0], [0.0, 3e-300]])
+    ids = Coordinates(pts, np.arange(4))
+    assert ids.count == 3
+    assert ids.first_of_each(np.arange(4)).tolist() == [0, 1, 3]
 
 
 @pytest.mark.parametrize("scale", [1.0, 2.0**-1000, 2.0**1000])
