@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 
 from hullstress.checker.extreme import Coordinates, exact_extreme_2d, first_of_each, rows_in
+from hullstress.checker.polygon2d import check_polygon2d, self_intersections
 from hullstress.checker.rank import affine_rank, witness_simplex
 from hullstress.checker.severity import ROUNDOFF_MULTIPLE, relative_magnitudes, severity
 
@@ -168,3 +169,66 @@ def test_exact_extreme_2d_collinear_and_triangle(scale):
     assert exact_extreme_2d(line).tolist() == [1, 3]
     tri = np.array([[1.0, 0.0], [0.0, 1.0], [0.0, 0.0], [0.5, 0.25]]) * scale
     assert exact_extreme_2d(tri).tolist() == [2, 0, 1]
+
+
+# --------------------------------------------------------------------------- polygon2d.py
+
+# A square-ish heptagon with a spike that folds back onto itself: up from P3 = (4, 8) to
+# P4 = (4, 12), then back down the same line.  Short fold: down to P5 = (4, 10), so edge
+# 5 starts on edge 3; long fold: down to (4, 6), past P3, so edge 4 covers edge 3 and
+# edge 2 ends on it.
+_SPIKE = [(0, 0), (8, 0), (8, 8), (4, 8), (4, 12), None, (0, 8)]
+#: Edge positions (edge i runs from vertex i to i + 1) that touch a non-adjacent edge or
+#: fold back onto the next one, worked out by hand from the pictures above.
+_SPIKE_BAD = {"short": {3, 4, 5}, "long": {2, 3, 4}}
+
+
+def _spike(kind: str, rotate: int, scale: float, shift: float) -> tuple[np.ndarray, np.ndarray, list[int]]:
+    ring = list(_SPIKE)
+    ring[5] = (4, 10) if kind == "short" else (4, 6)
+    pts = (np.array(ring, dtype=np.float64) + shift) * scale
+    k = len(ring)
+    poly = np.roll(np.arange(k), -rotate)  # position p holds vertex p + rotate
+    return pts, poly, sorted((b - rotate) % k for b in _SPIKE_BAD[kind])
+
+
+@pytest.mark.parametrize("rotate", range(7))
+@pytest.mark.parametrize("kind", ["short", "long"])
+@pytest.mark.parametrize(("scale", "shift"), [(1.0, 0.0), (1.0, 100.0), (2.0**1021, -6.0), (2.0**-1060, 3.0)])
+def test_self_intersections_positions_of_a_folded_spike(kind, rotate, scale, shift):
+    # Every rotation of the ring (the fold and the contacts wrap around the end), offset
+    # from the origin, and at scales where coordinate differences overflow (2**1021 * 12
+    # exceeds the double range: no warning may escape) or are subnormal.
+    pts, poly, want = _spike(kind, rotate, scale, shift)
+    assert self_intersections(pts, poly).tolist() == want
+
+
+@pytest.mark.parametrize("rotate", range(4))
+def test_self_intersections_of_a_bow_tie_and_a_straight_vertex(rotate):
+    bow = np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 2.0], [2.0, 2.0]]) + 7.0
+    poly = np.roll(np.arange(4), -rotate)
+    assert self_intersections(bow, poly).tolist() == sorted({(1 - rotate) % 4, (3 - rotate) % 4})
+    # A vertex straight on along an edge (the polygon goes on, not back): no contact.
+    square = np.array([[0.0, 0.0], [4.0, 0.0], [8.0, 0.0], [8.0, 8.0], [0.0, 8.0]]) - 3.0
+    assert self_intersections(square, np.roll(np.arange(5), -rotate)).tolist() == []
+
+
+def test_self_intersections_of_tiny_polygons():
+    pts = np.array([[0.0, 0.0], [2.0, 0.0], [1.0, 0.0]])
+    # A triangle folded flat: 0 -> 1 -> 2 turns back at 1, and 2 -> 0 -> 1 turns back at 0.
+    assert self_intersections(pts, np.array([0, 1, 2])).tolist() == [0, 1, 2]
+    for poly in (np.array([0, 1]), np.array([0]), np.zeros(0, dtype=np.int64)):
+        got = self_intersections(pts, poly)
+        assert got.dtype == np.int64 and got.shape == (0,)
+
+
+def test_check_polygon2d_of_fewer_than_three_vertices():
+    pts = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])
+    for poly in (np.array([0, 1]), np.array([2])):
+        res = check_polygon2d(pts, poly)
+        assert not res.manifold_ok and not res.convex_ok
+        for reasons in (res.reasons_manifold, res.reasons_convex):
+            assert reasons == [f"{len(poly)} vertices: a polygon needs at least 3"]
+        assert res.bad_vertices.tolist() == list(range(len(poly)))
+        assert res.turn.dtype == np.int8 and res.turn.tolist() == [0] * len(poly)
+        assert res.center is None and res.wraps is None
