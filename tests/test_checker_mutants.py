@@ -10,6 +10,7 @@ computation, never from the checker's own output.
 from __future__ import annotations
 
 import math
+from fractions import Fraction
 
 import numpy as np
 import pytest
@@ -232,3 +233,101 @@ def test_check_polygon2d_of_fewer_than_three_vertices():
         assert res.bad_vertices.tolist() == list(range(len(poly)))
         assert res.turn.dtype == np.int8 and res.turn.tolist() == [0] * len(poly)
         assert res.center is None and res.wraps is None
+
+
+def _strictly_left_of_every_edge(pts: np.ndarray, poly, centre) -> bool:
+    """Exactly (Fractions): is ``centre`` strictly left of every edge of the ring?"""
+    c = [Fraction(float(x)) for x in centre]
+    ring = [[Fraction(float(x)) for x in pts[i]] for i in poly]
+    for a, b in zip(ring, ring[1:] + ring[:1]):
+        if (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]) <= 0:
+            return False
+    return True
+
+
+@pytest.mark.parametrize(
+    "ring",
+    [
+        [(0, 0), (4, 0), (4, 4), (0, 4)],
+        [(0, 0), (2, 0), (4, 0), (4, 4), (0, 4)],  # a vertex straight on an edge
+        [(0, 0), (1, 0), (0, 1)],
+        [(0.1, 0.1), (0.7, 0.2), (0.3, 0.9)],  # inexact coordinates
+    ],
+)
+@pytest.mark.parametrize("scale", [1.0, 2.0**-1000, 2.0**1000])
+def test_check_polygon2d_convex_polygons_get_a_verified_centre(ring, scale):
+    # Polygon2D.center: "a float point verified strictly left of every edge" (the
+    # containment shortcut projects from it); a convex polygon always has one.
+    pts = np.array(ring, dtype=np.float64) * scale
+    poly = np.arange(len(ring))
+    res = check_polygon2d(pts, poly)
+    assert res.manifold_ok and res.convex_ok and res.wraps == 1
+    assert res.center is not None and res.center.dtype == np.float64 and res.center.shape == (2,)
+    assert _strictly_left_of_every_edge(pts, poly, res.center)
+    assert res.flipped.tolist() == [] and res.reflex.tolist() == [] and res.magnitudes == {}
+
+
+@pytest.mark.parametrize("scale", [1.0, 0.25, 2.0**-1000, 2.0**1000])
+def test_check_polygon2d_clockwise_square(scale):
+    # Every turn is right and the interior point is right of every edge: all four edges
+    # are flipped, by about half the side (the interior point is inside the square).
+    pts = np.array([[0.0, 0.0], [0.0, 4.0], [4.0, 4.0], [4.0, 0.0]]) * scale
+    res = check_polygon2d(pts, np.arange(4))
+    assert not res.convex_ok and not res.manifold_ok
+    assert res.reflex.tolist() == [0, 1, 2, 3] and res.flipped.tolist() == [0, 1, 2, 3]
+    assert res.center is None
+    assert "4 reflex vertices" in res.reasons_convex
+    assert "4 edges with the interior point not strictly left" in res.reasons_convex
+    if scale in (1.0, 0.25):
+        # Magnitudes are float distances for the severity, computed on the checker's
+        # power-of-two rescaled copy (check() rescales: raw coordinates near the ends of
+        # the double range underflow or overflow them to 0).
+        assert 0.0 < res.magnitudes["flipped"] < 4.0 * scale
+        assert res.magnitudes["reflex"] == pytest.approx(4.0 * scale)  # the next corner, a side right of the edge
+
+
+def test_check_polygon2d_dart_and_zero_length_edge_magnitudes():
+    # A dart (0, 0), (4, 2), (0, 4), (1, 2): reflex at (1, 2), where the polygon turns
+    # right; the vertices around it are 4 / sqrt(5) right of the neighbouring edge lines.
+    dart = np.array([[0.0, 0.0], [4.0, 2.0], [0.0, 4.0], [1.0, 2.0]])
+    res = check_polygon2d(dart, np.arange(4))
+    assert res.manifold_ok and not res.convex_ok and res.reflex.tolist() == [3]
+    assert res.magnitudes["reflex"] == pytest.approx(4 / math.sqrt(5))
+    # Its vertex mean (1.25, 2) is strictly left of every edge: a verified centre even
+    # though the polygon is not convex, and no edge is flipped.
+    assert res.center is not None and _strictly_left_of_every_edge(dart, np.arange(4), res.center)
+    assert res.flipped.tolist() == []
+    # A repeated vertex makes a zero-length edge: a degenerate edge of magnitude 0
+    # (severity.py: degenerate faces without a distance count as 0).
+    square = np.array([[0.0, 0.0], [4.0, 0.0], [4.0, 4.0], [0.0, 4.0], [4.0, 0.0]])
+    res = check_polygon2d(square, np.array([0, 1, 4, 2, 3]))
+    assert res.degenerate_edges.tolist() == [1]
+    assert res.flipped.tolist() == []  # a zero-length edge is degenerate, not flipped
+    assert res.magnitudes["degenerate"] == 0.0
+    assert "1 zero-length edges" in res.reasons_convex
+
+
+_SQUARE = np.array([[0.0, 0.0], [4.0, 0.0], [4.0, 4.0], [0.0, 4.0], [4.0, 0.0]])  # point 4 is a copy of point 1
+
+
+def test_check_polygon2d_repeated_index():
+    # Index 1 twice (positions 1 and 3 of [0, 1, 2, 1, 3]): a repeated vertex index,
+    # reported as such and not also as repeated coordinates.  Not convex (a right turn at
+    # position 3), so simplicity is tested pairwise: edge 2 folds back onto edge 1, and
+    # edges 0, 1 and 3 all touch at (4, 0) without being consecutive there; edge 4, from
+    # (0, 4) to (0, 0), touches nothing.
+    res = check_polygon2d(_SQUARE, np.array([0, 1, 2, 1, 3]))
+    assert not res.manifold_ok and not res.convex_ok
+    assert res.reasons_manifold == ["1 repeated vertex indices", "4 edges touching or crossing another edge"]
+    assert res.bad_vertices.tolist() == [0, 1, 2, 3]
+
+
+def test_check_polygon2d_repeated_coordinates():
+    # Points 1 and 4 share coordinates: positions 1 and 2 of [0, 1, 4, 2, 3].  Edge 1 has
+    # zero length (not convex), so simplicity is tested pairwise: edge 0 (ending at (4, 0))
+    # and edge 2 (starting there) are not consecutive, and meet.
+    res = check_polygon2d(_SQUARE, np.array([0, 1, 4, 2, 3]))
+    assert not res.manifold_ok and not res.convex_ok
+    assert res.degenerate_edges.tolist() == [1]
+    assert res.reasons_manifold == ["2 vertices at repeated coordinates", "2 edges touching or crossing another edge"]
+    assert res.bad_vertices.tolist() == [0, 1, 2]
