@@ -15,6 +15,7 @@ from fractions import Fraction
 import numpy as np
 import pytest
 
+from hullstress.checker.convexity3d import _outside_magnitude
 from hullstress.checker.extreme import Coordinates, exact_extreme_2d, first_of_each, rows_in
 from hullstress.checker.polygon2d import check_polygon2d, self_intersections
 from hullstress.checker.rank import affine_rank, witness_simplex
@@ -331,3 +332,23 @@ def test_check_polygon2d_repeated_coordinates():
     assert res.degenerate_edges.tolist() == [1]
     assert res.reasons_manifold == ["2 vertices at repeated coordinates", "2 edges touching or crossing another edge"]
     assert res.bad_vertices.tolist() == [0, 1, 2]
+
+
+# --------------------------------------------------------------------------- convexity3d.py
+
+# A dart D, A, B, C: the vertices C and A lie right of the edge lines D -> A (by 4 / sqrt(2))
+# and C -> D (by 4 / sqrt(10)); nothing else is outside an edge line.
+_DART = [(1.0, 1.0), (0.0, 0.0), (4.0, 2.0), (0.0, 4.0)]
+
+
+@pytest.mark.parametrize("scale", [1.0, 0.125])
+def test_outside_magnitude_of_a_projected_dart(scale):
+    # "Largest distance of a vertex outside an edge line"; edge 0 (D -> A) holds it.
+    p2 = np.array(_DART) * scale
+    assert _outside_magnitude(p2, 1) == pytest.approx(4 / math.sqrt(2) * scale)
+    # The same polygon listed clockwise, with the orientation sign saying so.
+    assert _outside_magnitude(p2[::-1].copy(), -1) == pytest.approx(4 / math.sqrt(2) * scale)
+    # A repeated vertex (a zero-length edge, no line) adds nothing, and warns of nothing
+    # (warnings are errors here).
+    doubled = np.array([_DART[0], _DART[1], _DART[1], _DART[2], _DART[3]]) * scale
+    assert _outside_magnitude(doubled, 1) == pytest.approx(4 / math.sqrt(2) * scale)
