@@ -352,3 +352,104 @@ def test_outside_magnitude_of_a_projected_dart(scale):
     # (warnings are errors here).
     doubled = np.array([_DART[0], _DART[1], _DART[1], _DART[2], _DART[3]]) * scale
     assert _outside_magnitude(doubled, 1) == pytest.approx(4 / math.sqrt(2) * scale)
+
+
+# --------------------------------------------------------------------------- closed_mesh.py
+
+from scipy.spatial import ConvexHull  # noqa: E402
+
+from hullstress.checker import certify as certify_module  # noqa: E402
+from hullstress.checker import check  # noqa: E402
+from hullstress.checker._geometry import exact_scale  # noqa: E402
+from hullstress.checker.closed_mesh import certify_closed_mesh, certify_convex_polygon  # noqa: E402
+from hullstress.contract import normalize_output  # noqa: E402
+
+
+def _outward(points: np.ndarray, simplices: np.ndarray) -> list[list[int]]:
+    """Qhull's triangles turned outward (the far-from-degenerate inputs below leave no doubt)."""
+    centre = points.mean(axis=0)
+    out = []
+    for a, b, c in simplices.tolist():
+        n = np.cross(points[b] - points[a], points[c] - points[a])
+        out.append([a, b, c] if np.dot(n, points[a] - centre) > 0 else [a, c, b])
+    return out
+
+
+def _convex_hulls():
+    """Convex hulls the batch should certify: 3D triangle meshes and 2D polygons, with and
+    without interior points, points on the boundary, and enough of them to leave the
+    batched containment test (more than 2000 point-face rows) to the general one."""
+    rng = np.random.default_rng(21)
+    cases = []
+    for n_hull, n_inner in ((4, 0), (12, 3), (40, 1), (60, 80)):
+        shell = rng.normal(size=(n_hull, 3))
+        shell /= np.linalg.norm(shell, axis=1)[:, None]
+        inner = rng.uniform(-0.3, 0.3, size=(n_inner, 3))
+        pts = np.vstack([shell, inner])
+        cases.append((f"3d-{n_hull}-{n_inner}", pts, _outward(pts, ConvexHull(shell).simplices)))
+    # A cube's faces split through their centres: the centres are boundary points, not corners.
+    corners = np.array([[x, y, z] for x in (0.0, 4.0) for y in (0.0, 4.0) for z in (0.0, 4.0)])
+    centres = np.array([[2.0, 2.0, 0.0], [2.0, 2.0, 4.0], [2.0, 0.0, 2.0], [2.0, 4.0, 2.0], [0.0, 2.0, 2.0], [4.0, 2.0, 2.0]])
+    pts = np.vstack([corners, centres, [[1.0, 1.0, 1.0]]])
+    cases.append(("3d-cube-centres", pts, _outward(pts, ConvexHull(pts[:14]).simplices)))
+    for n_hull, n_inner in ((3, 0), (7, 2), (30, 90)):
+        ang = 2 * np.pi * (np.arange(n_hull) + rng.uniform(0, 0.3, n_hull)) / n_hull  # round: the inner points are inside
+        ring = np.c_[np.cos(ang), np.sin(ang)]
+        inner = rng.uniform(-0.2, 0.2, size=(n_inner, 2))
+        pts = np.vstack([ring, inner])
+        cases.append((f"2d-{n_hull}-{n_inner}", pts, ConvexHull(ring).vertices.tolist()))
+    square = np.array([[0.0, 0.0], [2.0, 0.0], [4.0, 0.0], [4.0, 4.0], [0.0, 4.0], [1.0, 1.0]])
+    cases.append(("2d-square-edge-point", square, [0, 1, 2, 3, 4]))
+    return cases
+
+
+_HULLS = _convex_hulls()
+
+
+@pytest.mark.parametrize(("name", "points", "faces"), _HULLS, ids=[c[0] for c in _HULLS])
+def test_the_batch_certifies_convex_hulls_as_the_general_checks_do(name, points, faces, monkeypatch):
+    # closed_mesh.py: "the common case ... certified in one batch"; it "builds exactly the
+    # certificate the general path builds", so the verdicts must be identical field by field.
+    scaled, _ = exact_scale(points)
+    norm = normalize_output(faces, len(points), points.shape[1])
+    batch = (certify_closed_mesh(scaled, norm) if points.shape[1] == 3 else certify_convex_polygon(scaled, norm))
+    assert batch is not None and batch.certified
+    fast = check(points, faces)
+    assert fast.ok and fast.severity == "none"
+    monkeypatch.setattr(certify_module, "certify_closed_mesh", lambda *a, **k: None)
+    monkeypatch.setattr(certify_module, "certify_convex_polygon", lambda *a, **k: None)
+    full = check(points, faces, reuse_reference=False)
+    assert fast == full
+
+
+def _failed_corpus_entries():
+    """Negative-corpus hulls with a defect that the batch applies to (a polygon, or a
+    3D surface of triangles that passes the output contract)."""
+    import json
+    from pathlib import Path
+
+    from hullstress.errors import ContractViolation
+
+    out = []
+    for path in sorted((Path(__file__).parent / "data" / "negative").glob("*.json")):
+        for e in json.loads(path.read_text()):
+            if not e["expect"]["failed"] or e.get("isolate"):
+                continue
+            points = np.array(e["points"], dtype=np.float64)
+            try:
+                faces = normalize_output(e["faces"], len(points), points.shape[1])
+            except ContractViolation:  # rejected before any certificate
+                continue
+            if points.shape[1] == 2 or (faces.sizes == 3).all():
+                out.append(pytest.param(points, faces, id=e["id"]))
+    return out
+
+
+@pytest.mark.parametrize(("points", "faces"), _failed_corpus_entries())
+def test_the_batch_declines_every_wrong_hull_of_the_negative_corpus(points, faces):
+    # The batch "only ever concludes certified": on a hull with a defect it must decline.
+    scaled, _ = exact_scale(points)
+    if points.shape[1] == 2:
+        assert certify_convex_polygon(scaled, faces) is None
+    else:
+        assert certify_closed_mesh(scaled, faces) is None
