@@ -453,3 +453,67 @@ def test_the_batch_declines_every_wrong_hull_of_the_negative_corpus(points, face
         assert certify_convex_polygon(scaled, faces) is None
     else:
         assert certify_closed_mesh(scaled, faces) is None
+
+
+from hullstress.checker.convexity3d import check_convexity3d  # noqa: E402
+from hullstress.checker.topology import half_edges  # noqa: E402
+
+
+def _convexity(points, faces):
+    pts = np.asarray(points, dtype=np.float64)
+    fs = normalize_output(faces, len(pts), 3)
+    return check_convexity3d(pts, fs, half_edges(fs, len(pts)), closed=True)
+
+
+# A box 4 x 4 x 4 whose top is a valley: two planar quads sloping down to the edge
+# (2, 0, 3)-(2, 4, 3).  The front and back are each a convex quad and a triangle in one
+# plane, so every face is a planar convex polygon and the valley edge is the one reflex edge.
+_VALLEY_POINTS = [(0, 0, 0), (4, 0, 0), (4, 4, 0), (0, 4, 0), (0, 0, 4), (4, 0, 4), (4, 4, 4), (0, 4, 4), (2, 0, 3), (2, 4, 3)]
+_VALLEY_FACES = [
+    [3, 2, 1, 0],  # bottom
+    [0, 4, 7, 3],  # left, x = 0
+    [1, 2, 6, 5],  # right, x = 4
+    [4, 8, 9, 7],  # roof, left half
+    [8, 5, 6, 9],  # roof, right half
+    [0, 1, 5, 8], [0, 8, 4],  # front, y = 0
+    [2, 3, 7, 9], [2, 9, 6],  # back, y = 4
+]
+
+
+@pytest.mark.parametrize("rotate", [0, 1, 2])
+def test_a_valley_between_planar_polygon_faces_is_one_reflex_edge(rotate):
+    faces = [f[rotate % len(f):] + f[:rotate % len(f)] for f in _VALLEY_FACES]
+    conv = _convexity(_VALLEY_POINTS, faces)
+    assert not conv.ok
+    assert conv.n_reflex_edges == 1 and conv.reflex_faces.tolist() == [3, 4]
+    assert not conv.degenerate.any()
+    assert "1 reflex edges" in conv.reasons
+    # The valley's far side is 2 * 1 / sqrt(1.25) (a corner 2 across and 1 up, against a
+    # slope of 1/2) above the other half's plane.
+    assert conv.magnitudes["reflex"] == pytest.approx(2 / math.sqrt(1.25))
+    # The sharp edges are the box's own edges and the two ridges, not the seams inside the
+    # front and back (coplanar faces) and not the valley.
+    sharp = {tuple(e) for e in conv.sharp_edges.tolist()}
+    assert (0, 8) not in sharp and (2, 9) not in sharp and (8, 9) not in sharp
+    assert {(0, 1), (4, 8), (5, 8), (7, 9), (6, 9)} <= sharp
+
+
+def test_face_planes_and_degenerate_polygon_faces():
+    # A pyramid over a quad whose corner (0, 4, 1) is lifted off the plane of the other
+    # three: the base is not planar, by 16 / sqrt(272) (corner 0 against the plane of
+    # the first fan triple 3, 2, 1); a collinear triangle face has no plane (-1).
+    pts = [(0, 0, 0), (4, 0, 0), (4, 4, 0), (0, 4, 1), (2, 2, 4)]
+    faces = [[3, 2, 1, 0], [0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]]
+    conv = _convexity(pts, faces)
+    assert conv.degenerate.tolist() == [True, False, False, False, False]
+    assert conv.plane[0].tolist() == [3, 2, 1] and conv.plane[1].tolist() == [0, 1, 4]
+    assert conv.magnitudes["degenerate"] == pytest.approx(16 / math.sqrt(272))
+    assert "1 degenerate faces" in conv.reasons
+    # Polygon faces (a quad among them) and a collinear one: a tetrahedron's edge 0-1
+    # split at its midpoint 4, with the zero-area triangle (0, 4, 1) filling the gap.
+    pts = [(0, 0, 0), (4, 0, 0), (0, 4, 0), (0, 0, 4), (2, 0, 0)]
+    faces = [[0, 2, 1], [0, 4, 1, 3], [0, 3, 2], [1, 2, 3], [0, 1, 4]]
+    conv = _convexity(pts, faces)
+    assert conv.plane[4].tolist() == [-1, -1, -1]
+    assert conv.degenerate.tolist() == [False, False, False, False, True]
+    assert conv.magnitudes["degenerate"] == 0.0
