@@ -517,3 +517,35 @@ def test_face_planes_and_degenerate_polygon_faces():
     assert conv.plane[4].tolist() == [-1, -1, -1]
     assert conv.degenerate.tolist() == [False, False, False, False, True]
     assert conv.magnitudes["degenerate"] == 0.0
+
+
+def test_the_valley_as_triangles():
+    # The same surface fan-triangulated (a paired triangle mesh, the shortcut path): the
+    # valley edge is still the one reflex edge, with the same magnitude.
+    faces = [[f[0], f[i], f[i + 1]] for f in _VALLEY_FACES for i in range(1, len(f) - 1)]
+    conv = _convexity(_VALLEY_POINTS, faces)
+    assert conv.n_reflex_edges == 1 and not conv.degenerate.any()
+    roof = [i for i, f in enumerate(faces) if set(f) <= {4, 5, 6, 7, 8, 9} and ({8, 9} <= set(f))]
+    assert conv.reflex_faces.tolist() == roof
+    assert conv.magnitudes["reflex"] == pytest.approx(2 / math.sqrt(1.25))
+
+
+def test_a_collinear_triangle_has_no_plane():
+    # The tetrahedron whose edge 0-1 is split at 4, the gap closed by the flat triangle (0, 1, 4).
+    pts = [(0, 0, 0), (4, 0, 0), (0, 4, 0), (0, 0, 4), (2, 0, 0)]
+    faces = [[0, 2, 1], [0, 4, 3], [4, 1, 3], [0, 3, 2], [1, 2, 3], [0, 1, 4]]
+    conv = _convexity(pts, faces)
+    assert conv.plane[5].tolist() == [-1, -1, -1] and conv.plane[0].tolist() == [0, 2, 1]
+    assert conv.degenerate.tolist() == [False] * 5 + [True]
+
+
+def test_a_star_polygon_face_is_not_convex():
+    # A pyramid over a heptagon taken with step 2 (a {7/2} star): every turn of the base
+    # goes the same way, but its edge directions turn around twice (x-signs change four
+    # times), so the base face is not a convex polygon.
+    ring = [(16, 0), (28, 6), (32, 18), (24, 30), (8, 30), (0, 18), (4, 6)]
+    pts = [(x, y, 0) for x, y in ring] + [(16, 16, 24)]
+    star = [(2 * i) % 7 for i in range(7)]
+    faces = [star[::-1]] + [[star[i], star[(i + 1) % 7], 7] for i in range(7)]
+    conv = _convexity(pts, faces)
+    assert conv.degenerate[0] and not conv.degenerate[1:].any()
