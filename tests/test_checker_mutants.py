@@ -549,3 +549,64 @@ def test_a_star_polygon_face_is_not_convex():
     faces = [star[::-1]] + [[star[i], star[(i + 1) % 7], 7] for i in range(7)]
     conv = _convexity(pts, faces)
     assert conv.degenerate[0] and not conv.degenerate[1:].any()
+
+
+def _strictly_below_every_face(points, faces, centre) -> bool:
+    """Exactly (Fractions): is ``centre`` strictly below the plane of every face's first
+    non-collinear fan triple, outward by the right-hand rule?"""
+    p = [[Fraction(float(x)) for x in q] for q in points]
+    c = [Fraction(float(x)) for x in centre]
+
+    def sub(u, v):
+        return [u[0] - v[0], u[1] - v[1], u[2] - v[2]]
+
+    def det(u, v, w):
+        return (u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0])
+                + u[2] * (v[0] * w[1] - v[1] * w[0]))
+
+    for f in faces:
+        a = p[f[0]]
+        for i in range(1, len(f) - 1):
+            u, v = sub(p[f[i]], a), sub(p[f[i + 1]], a)
+            n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]]
+            if any(n):
+                if det(u, v, sub(c, a)) >= 0:
+                    return False
+                break
+    return True
+
+
+_CUBE_POINTS = [(x, y, z) for x in (0.0, 4.0) for y in (0.0, 4.0) for z in (0.0, 4.0)]
+_CUBE_FACES = [[0, 2, 6, 4], [1, 5, 7, 3], [0, 4, 5, 1], [2, 3, 7, 6], [0, 1, 3, 2], [4, 6, 7, 5]]
+
+
+@pytest.mark.parametrize("triangulate", [False, True])
+def test_convexity3d_centre_of_a_convex_surface(triangulate):
+    # Convexity3D.center: "a float point verified (exactly) to be strictly below every
+    # face"; degree: faces crossed by a ray from it (once around: 1).
+    faces = _CUBE_FACES
+    if triangulate:
+        faces = [[f[0], f[i], f[i + 1]] for f in faces for i in range(1, len(f) - 1)]
+    conv = _convexity(_CUBE_POINTS, faces)
+    assert conv.ok and conv.degree == 1 and conv.flipped.tolist() == [] and conv.magnitudes == {}
+    assert conv.center is not None and conv.center.dtype == np.float64
+    assert _strictly_below_every_face(_CUBE_POINTS, faces, conv.center)
+
+
+def test_convexity3d_centre_of_the_valley():
+    # Not convex, but the vertices' mean is still strictly below every face: a verified centre.
+    conv = _convexity(_VALLEY_POINTS, _VALLEY_FACES)
+    assert conv.center is not None and _strictly_below_every_face(_VALLEY_POINTS, _VALLEY_FACES, conv.center)
+    assert conv.flipped.tolist() == []
+
+
+@pytest.mark.parametrize("size", [0.25, 4.0])
+def test_an_inside_out_tetrahedron_has_every_face_flipped(size):
+    pts = [(0.0, 0.0, 0.0), (size, 0.0, 0.0), (0.0, size, 0.0), (0.0, 0.0, size)]
+    outward = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]
+    conv = _convexity(pts, [f[::-1] for f in outward])
+    assert conv.flipped.tolist() == [0, 1, 2, 3] and conv.center is None
+    assert "4 faces with the interior point not strictly below" in conv.reasons
+    # The interior point is inside the tetrahedron, so above each reversed face by less
+    # than the tetrahedron's size.
+    assert 0.0 < conv.magnitudes["flipped"] < size
