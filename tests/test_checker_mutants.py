@@ -213,6 +213,9 @@ def test_self_intersections_of_a_bow_tie_and_a_straight_vertex(rotate):
     # A vertex straight on along an edge (the polygon goes on, not back): no contact.
     square = np.array([[0.0, 0.0], [4.0, 0.0], [8.0, 0.0], [8.0, 8.0], [0.0, 8.0]]) - 3.0
     assert self_intersections(square, np.roll(np.arange(5), -rotate)).tolist() == []
+    # The same beside an acute corner (where the neighbours lie on one side on both axes).
+    tri = np.array([[0.0, 0.0], [4.0, 0.0], [8.0, 0.0], [0.0, 8.0]]) + 1.0
+    assert self_intersections(tri, np.roll(np.arange(4), -rotate)).tolist() == []
 
 
 def test_self_intersections_of_tiny_polygons():
