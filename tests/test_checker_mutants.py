@@ -403,6 +403,11 @@ def _convex_hulls():
         cases.append((f"2d-{n_hull}-{n_inner}", pts, ConvexHull(ring).vertices.tolist()))
     square = np.array([[0.0, 0.0], [2.0, 0.0], [4.0, 0.0], [4.0, 4.0], [0.0, 4.0], [1.0, 1.0]])
     cases.append(("2d-square-edge-point", square, [0, 1, 2, 3, 4]))
+    # Entirely at non-positive coordinates (the wrap-number ray's length comes from the
+    # largest magnitude, here that of the most negative coordinate).
+    cases.append(("2d-negative-square", square - 4.0, [0, 1, 2, 3, 4]))
+    cube = np.vstack([corners, centres, [[1.0, 1.0, 1.0]]]) - 4.0
+    cases.append(("3d-negative-cube", cube, _outward(cube, ConvexHull(cube[:14]).simplices)))
     return cases
 
 
