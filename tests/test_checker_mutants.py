@@ -406,6 +406,18 @@ def _convex_hulls():
     # Entirely at non-positive coordinates (the wrap-number ray's length comes from the
     # largest magnitude, here that of the most negative coordinate).
     cases.append(("2d-negative-square", square - 4.0, [0, 1, 2, 3, 4]))
+    # The straight vertex first, and a point on an edge that is not a vertex (boundary, allowed).
+    on_edge = np.vstack([square, [[4.0, 2.0]]])
+    cases.append(("2d-straight-first-edge-point", on_edge, [1, 2, 3, 4, 0]))
+    # Interior points before the hull's vertices: the lowest vertex index is not 0.
+    ang = 2 * np.pi * (np.arange(9) + rng.uniform(0, 0.3, 9)) / 9
+    ring = np.c_[np.cos(ang), np.sin(ang)] * 3.0
+    pts = np.vstack([rng.uniform(-0.5, 0.5, size=(4, 2)), ring])
+    cases.append(("2d-inner-first", pts, (ConvexHull(ring).vertices + 4).tolist()))
+    shell = rng.normal(size=(20, 3))
+    shell /= np.linalg.norm(shell, axis=1)[:, None]
+    pts = np.vstack([rng.uniform(-0.2, 0.2, size=(5, 3)), shell])
+    cases.append(("3d-inner-first", pts, _outward(pts, ConvexHull(shell).simplices + 5)))
     cube = np.vstack([corners, centres, [[1.0, 1.0, 1.0]]]) - 4.0
     cases.append(("3d-negative-cube", cube, _outward(cube, ConvexHull(cube[:14]).simplices)))
     return cases
@@ -422,6 +434,17 @@ def test_the_batch_certifies_convex_hulls_as_the_general_checks_do(name, points,
     norm = normalize_output(faces, len(points), points.shape[1])
     batch = (certify_closed_mesh(scaled, norm) if points.shape[1] == 3 else certify_convex_polygon(scaled, norm))
     assert batch is not None and batch.certified
+    general = certify_module.certify(scaled, norm, batched=False)
+    for name in ("dim", "containment", "convexity", "manifoldness", "n_faces", "n_nonconvex_edges",
+                 "n_degenerate_faces", "magnitudes", "reasons", "wraps", "volume"):
+        assert getattr(batch, name) == getattr(general, name), name
+    for name in ("hull_vertices", "extreme", "boundary_nonextreme", "outside"):
+        assert np.array_equal(getattr(batch, name), getattr(general, name)), name
+    assert {k: v.tolist() for k, v in batch.offending.items()} == {k: v.tolist() for k, v in general.offending.items()}
+    # The witness: dim + 1 affinely independent vertices of the surface.
+    w = batch.witness
+    assert w.shape == (points.shape[1] + 1,) and set(w.tolist()) <= set(batch.hull_vertices.tolist())
+    assert np.linalg.matrix_rank(scaled[w[1:]] - scaled[w[0]]) == points.shape[1]
     fast = check(points, faces)
     assert fast.ok and fast.severity == "none"
     monkeypatch.setattr(certify_module, "certify_closed_mesh", lambda *a, **k: None)
