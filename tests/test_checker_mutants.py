@@ -641,3 +641,13 @@ def test_an_inside_out_tetrahedron_has_every_face_flipped(size):
     # The interior point is inside the tetrahedron, so above each reversed face by less
     # than the tetrahedron's size.
     assert 0.0 < conv.magnitudes["flipped"] < size
+
+
+@pytest.mark.parametrize("hole", range(12))
+def test_the_batch_declines_a_cube_with_a_missing_triangle(hole):
+    # Every one of the twelve triangles left out in turn: an edge without its reverse
+    # (whichever end of the sorted edge keys it falls at), so not a closed mesh.
+    faces = [[f[0], f[i], f[i + 1]] for f in _CUBE_FACES for i in range(1, len(f) - 1)]
+    del faces[hole]
+    pts = np.array(_CUBE_POINTS)
+    assert certify_closed_mesh(pts, normalize_output(faces, len(pts), 3)) is None
