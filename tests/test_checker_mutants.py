@@ -651,3 +651,87 @@ def test_the_batch_declines_a_cube_with_a_missing_triangle(hole):
     del faces[hole]
     pts = np.array(_CUBE_POINTS)
     assert certify_closed_mesh(pts, normalize_output(faces, len(pts), 3)) is None
+
+
+# --------------------------------------------------------------------------- topology.py
+
+from hullstress.checker.topology import check_topology, components  # noqa: E402
+from hullstress.contract import FaceSet  # noqa: E402
+
+_TET_POINTS = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]])
+_TET = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]
+
+
+def _topology(points, faces):
+    fs = FaceSet.from_polygons(faces)
+    return check_topology(np.asarray(points, dtype=np.float64), fs)
+
+
+def test_topology_of_a_tetrahedron_both_ways():
+    ok = _topology(_TET_POINTS, _TET)
+    assert ok.ok and ok.reasons == [] and ok.n_edges == 6
+    assert ok.bad_faces.tolist() == [] and ok.bad_vertices.tolist() == []
+    inward = _topology(_TET_POINTS, [f[::-1] for f in _TET])
+    assert not inward.ok and inward.reasons == ["inward orientation (signed volume negative)"] and inward.n_edges == 6
+    # The same as polygon faces (the general path): a quad-free mesh given as a FaceSet of
+    # polygons with one face split into a triangle fan is still a triangle mesh, so use a
+    # square pyramid instead, both ways.
+    pts = [(0, 0, 0), (2, 0, 0), (2, 2, 0), (0, 2, 0), (1, 1, 2)]
+    pyramid = [[3, 2, 1, 0], [0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]]
+    ok = _topology(pts, pyramid)
+    assert ok.ok and ok.n_edges == 8
+    inward = _topology(pts, [f[::-1] for f in pyramid])
+    assert inward.reasons == ["inward orientation (signed volume negative)"]
+
+
+def test_topology_of_two_tetrahedra_sharing_a_vertex():
+    # Vertex 3 is shared: its link is two cycles; the two pieces meet only there
+    # (V - E + F = 7 - 12 + 8 = 3).
+    pts = np.vstack([_TET_POINTS, [[0.0, 0, 2], [1, 0, 2], [0, 1, 2]]])
+    top = [[3, 4, 5], [3, 5, 6], [3, 6, 4], [4, 6, 5]]
+    res = _topology(pts, _TET + top)
+    assert not res.ok and res.n_edges == 12
+    assert res.reasons == ["1 vertices whose link is not a single cycle", "2 connected pieces",
+                           "Euler characteristic 3, expected 2"]
+    assert res.bad_vertices.tolist() == [3] and res.bad_faces.tolist() == []
+
+
+def test_topology_of_a_tetrahedron_with_a_hole_and_with_a_face_twice():
+    # Face 3 (1, 2, 3) left out: its three edges have no opposite half-edge, in faces 0, 1, 2.
+    res = _topology(_TET_POINTS, _TET[:3])
+    assert res.reasons[0] == "3 edges without an opposite half-edge (border or same-direction neighbour)"
+    assert res.bad_faces.tolist() == [0, 1, 2] and res.bad_vertices.tolist() == [1, 2, 3]
+    assert "Euler characteristic 1, expected 2" in res.reasons and res.n_edges == 6
+    # Face 0 twice, the same way round: its three directed edges twice (6 half-edges), so
+    # their reverses in faces 1, 2 and 3 have no unique opposite, and a repeated face.
+    res = _topology(_TET_POINTS, _TET + [_TET[0]])
+    assert res.reasons[:3] == ["6 half-edges occur more than once in the same direction",
+                               "3 edges without an opposite half-edge (border or same-direction neighbour)",
+                               "2 repeated faces"]
+    assert res.bad_faces.tolist() == [0, 1, 2, 3, 4] and res.bad_vertices.tolist() == [0, 1, 2]
+
+
+def test_topology_of_a_face_repeating_a_vertex_and_of_no_faces():
+    pts = [(0, 0, 0), (2, 0, 0), (2, 2, 0), (0, 2, 0), (1, 1, 2)]
+    pyramid = [[3, 2, 1, 1, 0], [0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]]
+    res = _topology(pts, pyramid)
+    assert res.reasons[0] == "1 faces repeat a vertex" and 0 in res.bad_faces.tolist()
+    empty = check_topology(np.asarray(pts, dtype=np.float64), FaceSet.from_polygons([]))
+    assert not empty.ok and empty.reasons == ["no faces"] and empty.n_edges == 0
+
+
+def test_components_labels_by_smallest_member():
+    assert components(6, np.array([5, 1, 3]), np.array([4, 0, 5])).tolist() == [0, 0, 2, 3, 3, 3]
+    assert components(3, np.zeros(0, np.int64), np.zeros(0, np.int64)).tolist() == [0, 1, 2]
+
+
+@pytest.mark.parametrize("n_points", [4, 2**20, 2**40])
+def test_repeated_faces_are_all_copies(n_points):
+    # The same vertex set in any order and orientation is a repeat; every copy is reported.
+    from hullstress.checker.topology import _repeated_faces
+
+    faces = FaceSet.from_polygons(_TET + [[1, 0, 2], [3, 1, 0]])
+    assert _repeated_faces(faces, n_points, True).tolist() == [0, 1, 4, 5]
+    assert _repeated_faces(FaceSet.from_polygons(_TET), n_points, True).tolist() == []
+    quads = FaceSet.from_polygons([[0, 1, 2, 3], [3, 2, 1, 0], [0, 1, 3], [4, 5, 6, 7]])
+    assert _repeated_faces(quads, n_points, False).tolist() == [0, 1]
