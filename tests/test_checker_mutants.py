@@ -735,3 +735,84 @@ def test_repeated_faces_are_all_copies(n_points):
     assert _repeated_faces(FaceSet.from_polygons(_TET), n_points, True).tolist() == []
     quads = FaceSet.from_polygons([[0, 1, 2, 3], [3, 2, 1, 0], [0, 1, 3], [4, 5, 6, 7]])
     assert _repeated_faces(quads, n_points, False).tolist() == [0, 1]
+
+
+# --------------------------------------------------------------------------- containment.py
+
+from hullstress.checker.containment import check_containment2d, check_containment3d  # noqa: E402
+from hullstress.checker.convexity3d import face_planes  # noqa: E402
+
+
+def _integer_hull3(seed: int):
+    """A convex triangle mesh on integer points (multiples of 6, so edge midpoints and
+    face centroids are integer points on the surface) and query points around it."""
+    rng = np.random.default_rng(seed)
+    d = rng.normal(size=(150, 3))
+    shell = np.unique(np.round(d / np.linalg.norm(d, axis=1)[:, None] * 300).astype(np.int64) * 6, axis=0)
+    hull = ConvexHull(shell)
+    shell = shell[hull.vertices]
+    faces = np.array(_outward(shell.astype(np.float64), ConvexHull(shell).simplices))
+    a, b, c = shell[faces[:, 0]], shell[faces[:, 1]], shell[faces[:, 2]]
+    queries = [rng.integers(-2100, 2101, size=(3000, 3)), (a + b) // 2, (a + b + c) // 3,
+               (a + b + c) // 3 + rng.integers(-1, 2, size=(len(faces), 3))]
+    return shell, faces, np.vstack(queries)
+
+
+def _outside_exactly(points: np.ndarray, facets: list[np.ndarray]) -> list[int]:
+    """Indices strictly outside some facet (above its outward plane), in integers."""
+    out = np.zeros(len(points), dtype=bool)
+    if len(facets) == 3:
+        a, b, c = facets
+        n = np.cross(b - a, c - a)  # int64, outward
+        for i in range(len(a)):
+            out |= (points - a[i]) @ n[i] > 0
+    else:
+        a, b = facets
+        for i in range(len(a)):
+            e, r = b[i] - a[i], points - a[i]
+            out |= e[0] * r[:, 1] - e[1] * r[:, 0] < 0  # strictly right of a ccw edge
+    return np.flatnonzero(out).tolist()
+
+
+@pytest.mark.parametrize("seed", [1, 2])
+def test_containment3d_strategies_against_integers(seed):
+    shell, faces, queries = _integer_hull3(seed)
+    pts_int = np.vstack([shell, queries])
+    want = _outside_exactly(pts_int, [shell[faces[:, 0]], shell[faces[:, 1]], shell[faces[:, 2]]])
+    pts = pts_int.astype(np.float64)
+    fs = normalize_output(faces.tolist(), len(pts), 3)
+    plane = face_planes(pts, fs)
+    he = half_edges(fs, len(pts))
+    centre = shell.mean(axis=0).astype(np.float64)
+    assert 0 < len(want) < len(queries)
+    for kwargs, methods in (({"certified": True, "center": centre, "he": he}, {"cones", "cones+brute"}),
+                            ({"certified": False, "center": centre}, {"brute"}),
+                            ({}, {"brute"})):
+        res = check_containment3d(pts, fs, plane, **kwargs)
+        assert res.outside.tolist() == want, kwargs
+        assert not res.ok and res.magnitude > 0 and res.method in methods
+    inside = np.vstack([shell, queries[np.isin(np.arange(len(queries)), np.array(want) - len(shell), invert=True)]])
+    res = check_containment3d(inside.astype(np.float64), fs, plane, certified=True, center=centre, he=he)
+    assert res.ok and res.outside.tolist() == [] and res.magnitude == 0.0
+
+
+@pytest.mark.parametrize("seed", [1, 2])
+def test_containment2d_strategies_against_integers(seed):
+    rng = np.random.default_rng(seed)
+    ang = np.sort(rng.uniform(0, 2 * np.pi, 400))
+    ring = np.unique(np.round(np.c_[np.cos(ang), np.sin(ang)] * 500).astype(np.int64) * 2, axis=0)
+    ring = ring[ConvexHull(ring).vertices]  # counter-clockwise
+    a, b = ring, np.roll(ring, -1, axis=0)
+    queries = np.vstack([rng.integers(-1100, 1101, size=(3000, 2)), (a + b) // 2,
+                         (a + b) // 2 + rng.integers(-1, 2, size=(len(ring), 2))])
+    pts_int = np.vstack([ring, queries])
+    want = _outside_exactly(pts_int, [a, b])
+    pts = pts_int.astype(np.float64)
+    poly = np.arange(len(ring))
+    centre = ring.mean(axis=0).astype(np.float64)
+    assert 0 < len(want) < len(queries)
+    for kwargs, methods in (({"certified": True, "center": centre}, {"cones", "cones+brute"}),
+                            ({"certified": False, "center": centre}, {"brute"}), ({}, {"brute"})):
+        res = check_containment2d(pts, poly, **kwargs)
+        assert res.outside.tolist() == want, kwargs
+        assert not res.ok and res.magnitude > 0 and res.method in methods
