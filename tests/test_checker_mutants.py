@@ -816,3 +816,18 @@ def test_containment2d_strategies_against_integers(seed):
         res = check_containment2d(pts, poly, **kwargs)
         assert res.outside.tolist() == want, kwargs
         assert not res.ok and res.magnitude > 0 and res.method in methods
+
+
+def test_a_valley_on_an_open_and_on_a_non_manifold_surface():
+    # Edges that do not pair up (a face missing, or three faces on one edge) send the
+    # reflex test through the sorted edge groups instead of the twins.
+    # Without the bottom face: the roof halves are faces 2 and 3, the valley still reflex.
+    conv = _convexity(_VALLEY_POINTS, _VALLEY_FACES[1:])
+    assert conv.n_reflex_edges == 1 and conv.reflex_faces.tolist() == [2, 3]
+    # A fin (8, 9, 10) standing on the valley edge, up to (2, 2, 6): three faces on that
+    # edge.  The fin's top is above both roof planes, and the right roof's far corners are
+    # on the fin plane's outer side (x > 2); the left roof's are not.  One reflex edge,
+    # in the two roof halves and the fin.
+    pts = _VALLEY_POINTS + [(2, 2, 6)]
+    conv = _convexity(pts, _VALLEY_FACES + [[8, 9, 10]])
+    assert conv.n_reflex_edges == 1 and conv.reflex_faces.tolist() == [3, 4, 9]
