@@ -824,6 +824,13 @@ def test_a_valley_on_an_open_and_on_a_non_manifold_surface():
     # Without the bottom face: the roof halves are faces 2 and 3, the valley still reflex.
     conv = _convexity(_VALLEY_POINTS, _VALLEY_FACES[1:])
     assert conv.n_reflex_edges == 1 and conv.reflex_faces.tolist() == [2, 3]
+    # The same with the valley's ends renumbered 0 and 1 (8 <-> 0, 9 <-> 1): the valley
+    # edge is then the first of the sorted edges.
+    swap = {0: 8, 8: 0, 1: 9, 9: 1}
+    pts = [_VALLEY_POINTS[swap.get(i, i)] for i in range(len(_VALLEY_POINTS))]
+    faces = [[swap.get(v, v) for v in f] for f in _VALLEY_FACES[1:]]
+    conv = _convexity(pts, faces)
+    assert conv.n_reflex_edges == 1 and conv.reflex_faces.tolist() == [2, 3]
     # A fin (8, 9, 10) standing on the valley edge, up to (2, 2, 6): three faces on that
     # edge.  The fin's top is above both roof planes, and the right roof's far corners are
     # on the fin plane's outer side (x > 2); the left roof's are not.  One reflex edge,
