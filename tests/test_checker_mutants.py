@@ -838,3 +838,48 @@ def test_a_valley_on_an_open_and_on_a_non_manifold_surface():
     pts = _VALLEY_POINTS + [(2, 2, 6)]
     conv = _convexity(pts, _VALLEY_FACES + [[8, 9, 10]])
     assert conv.n_reflex_edges == 1 and conv.reflex_faces.tolist() == [3, 4, 9]
+
+
+def _torus(offset: int) -> list[list[int]]:
+    """A 3 x 3 grid triangulation of a torus (9 vertices, 27 edges, 18 faces: V - E + F = 0)."""
+    def v(i, j):
+        return offset + (i % 3) * 3 + (j % 3)
+
+    faces = []
+    for i in range(3):
+        for j in range(3):
+            faces += [[v(i, j), v(i + 1, j), v(i + 1, j + 1)], [v(i, j), v(i + 1, j + 1), v(i, j + 1)]]
+    return faces
+
+
+def _quick(points, faces):
+    from hullstress.checker.topology import _closed_triangle_mesh
+
+    pts = np.asarray(points, dtype=np.float64)
+    fs = FaceSet.from_polygons(faces)
+    return _closed_triangle_mesh(pts, fs, half_edges(fs, len(pts)), None)
+
+
+def test_the_closed_triangle_mesh_shortcut_concludes_only_on_spheres():
+    # "The verdict on a triangle mesh whose edges pair up exactly, when it is a sphere; else None."
+    ok = _quick(_TET_POINTS, _TET)
+    assert ok is not None and ok.ok and ok.n_edges == 6
+    inward = _quick(_TET_POINTS, [f[::-1] for f in _TET])
+    assert inward is not None and inward.reasons == ["inward orientation (signed volume negative)"]
+    # A single triangle repeating a vertex pairs its own edges and has V - E + F = 2.
+    for bad in ([0, 0, 1], [0, 1, 1], [1, 0, 1]):
+        assert _quick(_TET_POINTS, [bad]) is None, bad
+    # Two spheres (V - E + F = 4), and a sphere beside a torus (2 + 0: one number right,
+    # two pieces).
+    pts = np.vstack([_TET_POINTS, _TET_POINTS + 5.0, np.zeros((9, 3))])
+    assert _quick(pts, _TET + [[v + 4 for v in f] for f in _TET]) is None
+    assert _quick(pts, _TET + _torus(8)) is None
+    # The general check names the torus's defect.
+    res = _topology(pts, _TET + _torus(8))
+    assert "2 connected pieces" in res.reasons and not any("Euler" in r for r in res.reasons)
+
+
+@pytest.mark.parametrize("bad", [[0, 0, 1], [0, 1, 1], [1, 0, 1]])
+def test_a_triangle_repeating_a_vertex_is_named(bad):
+    res = _topology(_TET_POINTS, _TET + [bad])
+    assert res.reasons[0] == "1 faces repeat a vertex" and 4 in res.bad_faces.tolist()
