@@ -694,6 +694,10 @@ def test_topology_of_two_tetrahedra_sharing_a_vertex():
     assert res.reasons == ["1 vertices whose link is not a single cycle", "2 connected pieces",
                            "Euler characteristic 3, expected 2"]
     assert res.bad_vertices.tolist() == [3] and res.bad_faces.tolist() == []
+    # The same with every index shifted by 100 (unused points first): vertex 103.
+    far = np.vstack([np.zeros((100, 3)), pts])
+    res = _topology(far, [[v + 100 for v in f] for f in _TET + top])
+    assert res.bad_vertices.tolist() == [103] and res.reasons[0] == "1 vertices whose link is not a single cycle"
 
 
 def test_topology_of_a_tetrahedron_with_a_hole_and_with_a_face_twice():
@@ -702,6 +706,10 @@ def test_topology_of_a_tetrahedron_with_a_hole_and_with_a_face_twice():
     assert res.reasons[0] == "3 edges without an opposite half-edge (border or same-direction neighbour)"
     assert res.bad_faces.tolist() == [0, 1, 2] and res.bad_vertices.tolist() == [1, 2, 3]
     assert "Euler characteristic 1, expected 2" in res.reasons and res.n_edges == 6
+    # The border vertices' corners still form one fan each: only the border and the
+    # Euler characteristic are reported.
+    assert res.reasons == ["3 edges without an opposite half-edge (border or same-direction neighbour)",
+                           "Euler characteristic 1, expected 2"]
     # Face 0 twice, the same way round: its three directed edges twice (6 half-edges), so
     # their reverses in faces 1, 2 and 3 have no unique opposite, and a repeated face.
     res = _topology(_TET_POINTS, _TET + [_TET[0]])
