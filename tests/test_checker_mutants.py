@@ -700,6 +700,16 @@ def test_topology_of_two_tetrahedra_sharing_a_vertex():
     assert res.bad_vertices.tolist() == [103] and res.reasons[0] == "1 vertices whose link is not a single cycle"
 
 
+def test_topology_of_two_faces_and_of_two_pieces():
+    # Two triangles on the same three vertices, opposite ways round (a zero-volume
+    # pillow): repeated faces (the module's docstring example), not a sphere.
+    assert _topology(_TET_POINTS, [[0, 1, 2], [0, 2, 1]]).reasons == ["2 repeated faces"]
+    # A tetrahedron with a hole beside a whole one: two pieces (the border edges join nothing).
+    pts = np.vstack([_TET_POINTS, _TET_POINTS + 5.0])
+    res = _topology(pts, _TET[:3] + [[v + 4 for v in f] for f in _TET])
+    assert "2 connected pieces" in res.reasons
+
+
 def test_topology_of_a_tetrahedron_with_a_hole_and_with_a_face_twice():
     # Face 3 (1, 2, 3) left out: its three edges have no opposite half-edge, in faces 0, 1, 2.
     res = _topology(_TET_POINTS, _TET[:3])
@@ -725,7 +735,9 @@ def test_topology_of_a_face_repeating_a_vertex_and_of_no_faces():
     res = _topology(pts, pyramid)
     assert res.reasons[0] == "1 faces repeat a vertex" and 0 in res.bad_faces.tolist()
     empty = check_topology(np.asarray(pts, dtype=np.float64), FaceSet.from_polygons([]))
-    assert not empty.ok and empty.reasons == ["no faces"] and empty.n_edges == 0
+    assert empty.ok is False and empty.reasons == ["no faces"] and empty.n_edges == 0
+    for found in (empty.bad_faces, empty.bad_vertices):
+        assert found.dtype == np.int64 and found.tolist() == []
 
 
 def test_components_labels_by_smallest_member():
@@ -743,6 +755,10 @@ def test_repeated_faces_are_all_copies(n_points):
     assert _repeated_faces(FaceSet.from_polygons(_TET), n_points, True).tolist() == []
     quads = FaceSet.from_polygons([[0, 1, 2, 3], [3, 2, 1, 0], [0, 1, 3], [4, 5, 6, 7]])
     assert _repeated_faces(quads, n_points, False).tolist() == [0, 1]
+    # Different vertex sets with the same sums or the same two largest vertices are not repeats.
+    assert _repeated_faces(FaceSet.from_polygons([[0, 2, 4], [1, 2, 3]]), max(n_points, 5), True).tolist() == []
+    mixed = FaceSet.from_polygons([[0, 2, 4], [1, 2, 4], [0, 4, 2]])
+    assert _repeated_faces(mixed, max(n_points, 5), True).tolist() == [0, 2]
 
 
 # --------------------------------------------------------------------------- containment.py
