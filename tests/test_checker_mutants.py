@@ -680,6 +680,11 @@ def test_topology_of_a_tetrahedron_both_ways():
     pyramid = [[3, 2, 1, 0], [0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]]
     ok = _topology(pts, pyramid)
     assert ok.ok and ok.n_edges == 8
+    assert ok.bad_faces.dtype == np.int64 and ok.bad_vertices.dtype == np.int64
+    # A flat closed surface (a square as one quad above, two triangles below): a sphere
+    # by its combinatorics, of zero volume.
+    flat = _topology(pts[:4], [[0, 1, 2, 3], [0, 3, 1], [1, 3, 2]])
+    assert flat.reasons == ["zero signed volume"]
     inward = _topology(pts, [f[::-1] for f in pyramid])
     assert inward.reasons == ["inward orientation (signed volume negative)"]
 
@@ -715,6 +720,7 @@ def test_topology_of_a_tetrahedron_with_a_hole_and_with_a_face_twice():
     res = _topology(_TET_POINTS, _TET[:3])
     assert res.reasons[0] == "3 edges without an opposite half-edge (border or same-direction neighbour)"
     assert res.bad_faces.tolist() == [0, 1, 2] and res.bad_vertices.tolist() == [1, 2, 3]
+    assert res.bad_faces.dtype == np.int64 and res.bad_vertices.dtype == np.int64
     assert "Euler characteristic 1, expected 2" in res.reasons and res.n_edges == 6
     # The border vertices' corners still form one fan each: only the border and the
     # Euler characteristic are reported.
