@@ -5,7 +5,9 @@ Run by ``tools/mutation.sh`` after ``mutmut run`` (from the repository root, whe
 (killed and timed-out mutants over all checked ones; "no tests" counts as
 surviving), counts per status, and one table row per surviving mutant with the
 changed line and the reason it is equivalent or harmless, taken from
-``tools/mutation_survivors.toml``.  A survivor without a reason is listed as
+``tools/mutation_survivors.toml``.  Given mutant name patterns (those the run was
+restricted to), it counts only the matching mutants: ``mutants/`` may hold results
+of earlier restricted runs of other modules.  A survivor without a reason is listed as
 UNEXPLAINED and makes the exit status 1: kill it with a test (preferably a
 negative-corpus entry) or record why it cannot matter.
 
@@ -91,13 +93,20 @@ def explain(s: Survivor, reasons: list[dict]) -> str | None:
     return None
 
 
-def collect() -> tuple[Counter, list[Survivor]]:
+def in_scope(name: str, patterns: list[str]) -> bool:
+    """Whether mutmut would run mutant ``name`` for these name patterns (none: every mutant)."""
+    return not patterns or any(name == p or fnmatch.fnmatch(name, p) for p in patterns)
+
+
+def collect(patterns: list[str]) -> tuple[Counter, list[Survivor]]:
     counts: Counter = Counter()
     survivors = []
     for path in walk_mutatable_files():
         data = SourceFileMutationData(path=path)
         data.load()
         for name, code in data.exit_code_by_key.items():
+            if not in_scope(name, patterns):
+                continue
             status = status_by_exit_code[code]
             counts[status] += 1
             if status in DETECTED or status == "not checked":
@@ -114,10 +123,10 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--out", type=Path, default=Path("reports/mutation/mutation-report.md"))
     parser.add_argument("--seconds", type=int, default=None, help="wall time of the run, for the report")
     parser.add_argument("--jobs", type=int, default=None, help="mutmut's --max-children, for the report")
-    parser.add_argument("--scope", default="", help="the mutant names the run was restricted to, for the title")
+    parser.add_argument("patterns", nargs="*", help="the mutant name patterns the run was restricted to")
     args = parser.parse_args(argv)
 
-    counts, survivors = collect()
+    counts, survivors = collect(args.patterns)
     reasons = load_reasons()
     for s in survivors:
         s.reason = explain(s, reasons)
@@ -126,7 +135,10 @@ def main(argv: list[str] | None = None) -> int:
     unexplained = [s for s in survivors if s.reason is None]
     score = 100.0 * detected / checked if checked else 0.0
 
-    title = f"mutants {args.scope}" if args.scope else "hullstress/checker/ and hullstress/contract.py"
+    scope = " ".join(args.patterns)
+    if len(scope) > 200:
+        scope = f"{scope[:200]}... ({len(args.patterns)} patterns)"
+    title = f"mutants {scope}" if scope else "hullstress/checker/ and hullstress/contract.py"
     lines = [f"# Mutation testing: {title}", ""]
     run = f"{checked} mutants checked, {detected} killed: **score {score:.1f} %**"
     if args.seconds is not None:
