@@ -11,7 +11,7 @@ import time
 from collections.abc import Sequence
 from pathlib import Path
 
-__all__ = ["parse_workers", "load_average", "timed_run"]
+__all__ = ["add_run_options", "parse_workers", "load_average", "timed_run"]
 
 
 def parse_workers(text: str) -> list[int]:
@@ -23,6 +23,32 @@ def parse_workers(text: str) -> list[int]:
     if not counts or min(counts) < 1:
         raise SystemExit(f"--workers must list worker counts of at least 1, got {text!r}")
     return counts
+
+
+def _at_least_one(text: str) -> int:
+    """``--repeat``'s type: an integer of at least 1, or a one-line exit."""
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise SystemExit(f"--repeat must be an integer of at least 1, got {text!r}")
+    return value
+
+
+def add_run_options(parser: argparse.ArgumentParser) -> None:
+    """The options every whole-run benchmark takes: what to run (as ``hullstress run``), worker counts, rounds.
+
+    They are what :func:`timed_run` reads.
+    """
+    parser.add_argument("--profile", default="quick", help="sweep profile (default quick)")
+    parser.add_argument("--workers", default="1,2", type=parse_workers, help="worker counts to compare (default 1,2)")
+    parser.add_argument("--repeat", type=_at_least_one, default=1,
+                        help="runs per worker count; the best is kept (default 1)")
+    parser.add_argument("--algorithm", action="append", default=[], help="only this algorithm (repeatable)")
+    parser.add_argument("--generator", action="append", default=[], help="only this generator (repeatable)")
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--timeout", type=float, default=None, help="per-call timeout (default: the profile's)")
 
 
 def load_average() -> str:

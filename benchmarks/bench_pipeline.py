@@ -31,7 +31,7 @@ import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
-from _bench_common import load_average, parse_workers, timed_run  # a sibling: benchmarks run as scripts
+from _bench_common import add_run_options, load_average, timed_run  # a sibling: benchmarks run as scripts
 
 #: The phases ``run.json`` times, in order.
 PHASES = ("generate", "sweep", "triage", "report")
@@ -79,18 +79,10 @@ def table(results: list[Measured]) -> str:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--profile", default="quick", help="sweep profile (default quick)")
-    parser.add_argument("--workers", default="1,2", type=parse_workers, help="worker counts (default 1,2)")
-    parser.add_argument("--repeat", type=int, default=1, help="rounds over the worker counts; best kept (default 1)")
-    parser.add_argument("--algorithm", action="append", default=[], help="only this algorithm (repeatable)")
-    parser.add_argument("--generator", action="append", default=[], help="only this generator (repeatable)")
-    parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--timeout", type=float, default=None, help="per-call timeout (default: the profile's)")
+    add_run_options(parser)
     parser.add_argument("--keep", type=Path, default=None, metavar="DIR",
                         help="write the runs' report folders under DIR and keep them (default: a temporary folder)")
     args = parser.parse_args(argv)
-    if args.repeat < 1:
-        raise SystemExit(f"--repeat must be at least 1, got {args.repeat}")
     print(f"load average before: {load_average()}")
     best: dict[int, Measured] = {}
     with tempfile.TemporaryDirectory(prefix="hullstress-bench-pipeline-") as tmp:

@@ -54,7 +54,7 @@ from hullstress.results import ResultRow
 from hullstress.runner import ExecutionStats, RunnerOptions, Task, execute
 from hullstress.sweep import SweepOptions, build_tasks
 
-from _bench_common import load_average, parse_workers, timed_run  # a sibling: benchmarks run as scripts
+from _bench_common import add_run_options, load_average, timed_run  # a sibling: benchmarks run as scripts
 
 
 def _warm_up(tasks: list[Task]) -> float:
@@ -100,14 +100,8 @@ def _by_algorithm(per_algorithm: dict[str, list[float]], top: int = 8) -> None:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--profile", default="quick", help="sweep profile (default quick)")
-    parser.add_argument("--workers", default="1,2", type=parse_workers, help="worker counts to compare (default 1,2)")
-    parser.add_argument("--repeat", type=int, default=1, help="runs per worker count; the best is kept (default 1)")
-    parser.add_argument("--algorithm", action="append", default=[], help="only this algorithm (repeatable)")
-    parser.add_argument("--generator", action="append", default=[], help="only this generator (repeatable)")
+    add_run_options(parser)
     parser.add_argument("--plugin", action="append", default=[], help="load a plug-in first (repeatable)")
-    parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--timeout", type=float, default=None, help="per-call timeout (default: the profile's)")
     parser.add_argument("--no-sweep", action="store_true", help="skip the sweep-only measurement")
     parser.add_argument("--no-end-to-end", action="store_true", help="skip the end-to-end measurement")
     args = parser.parse_args(argv)
