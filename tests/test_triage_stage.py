@@ -209,3 +209,26 @@ def test_a_repeated_question_is_answered_by_the_earlier_call_but_a_rerun_runs_ag
     run.timeout = 10.0
     run.batch([(square, 2, a, False)])
     assert len(pool.calls) == 5 and run.reused == 2
+
+
+def test_the_answers_kept_for_reuse_are_bounded_and_the_least_recently_used_go_first(monkeypatch):
+    from hullstress.triage import stage
+    from hullstress.triage.stage import _Triage
+
+    monkeypatch.setattr(stage, "_ANSWERS_KEPT", 2)
+    pool = _CountingPool()
+    run = _Triage(pool, budget=TriageBudget(calls=100, group_calls=10, hang_calls=0, pictures=0,
+                                            safety_seconds=60.0), timeout=5.0, qhull=True, should_stop=None,
+                  progress=None, total=1)
+    config = AlgorithmConfig("monotone-chain", eps="scaled")
+    square = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+    first, second, third = (square + k for k in range(3))
+    run.batch([(first, 2, config, False)])
+    run.batch([(second, 2, config, False)])
+    run.batch([(first, 2, config, False)])  # reused: now the most recently used
+    run.batch([(third, 2, config, False)])  # evicts `second`, the least recently used
+    assert len(run.answers) == 2 and len(pool.calls) == 3 and run.reused == 1
+    run.batch([(first, 2, config, False)])
+    assert len(pool.calls) == 3 and run.reused == 2  # still kept
+    run.batch([(second, 2, config, False)])
+    assert len(pool.calls) == 4  # asked again: a new call, the same answer a re-run gives

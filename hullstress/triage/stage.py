@@ -47,6 +47,7 @@ from __future__ import annotations
 
 import dataclasses
 import time
+from collections import OrderedDict
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
@@ -71,6 +72,9 @@ __all__ = ["TriageRecord", "TriageResult", "triage_failures", "triage_one", "pla
 #: Known minimal cases a group tries before shrinking its own case (one evaluation each): found for
 #: groups of its own kind of failure, and for groups of other kinds.
 TRIES = (2, 1)
+
+#: Answers of earlier calls kept for reuse (about 7 KB each; a quick run makes about 6000 calls).
+_ANSWERS_KEPT = 20_000
 
 #: ``progress(done, total, detail)``: groups finished of groups to triage, and a few words.
 Progress = Callable[[int, int, str], None]
@@ -148,7 +152,9 @@ class _Triage:
         self.done = 0
         self.total = total
         self.rounds = 0
-        self.answers: dict[tuple[str, str, bool, float], ResultRow] = {}  # (case, config, reference, limit) -> row
+        # (case, config, reference, limit) -> row, the most recently used kept: a row is about 7 KB, and the
+        # nightly budget allows 150,000 evaluations.  Which answers are kept decides only which calls are made.
+        self.answers: OrderedDict[tuple[str, str, bool, float], ResultRow] = OrderedDict()
         self.reused = 0  # requests answered by an identical earlier call
 
     # -- running candidates -------------------------------------------------
@@ -194,6 +200,7 @@ class _Triage:
         for n, ((points, dim, config, needs), key) in enumerate(zip(requests, full)):
             if (reuse is None or reuse[n]) and key in self.answers and key not in found:
                 found[key] = self.answers[key]
+                self.answers.move_to_end(key)
                 self.reused += 1
             elif key not in found:
                 configs.setdefault(key[0], []).append(config)
@@ -209,6 +216,8 @@ class _Triage:
                 for config, row in zip(task.configs, rows):
                     key = (task.case.case_id, config.label, qhull, self.timeout)
                     found[key] = self.answers[key] = row
+        while len(self.answers) > _ANSWERS_KEPT:
+            self.answers.popitem(last=False)
         return [found[k] for k in full]
 
     def _report(self, detail: str) -> None:
