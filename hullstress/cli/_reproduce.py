@@ -216,18 +216,16 @@ def reproduce_command(args: argparse.Namespace) -> int:
 def _save_to_corpus(directory: str, folder: Path, meta: dict[str, Any], points: np.ndarray,
                     timeout: float) -> tuple[Path, bool]:
     """The folder's minimal case as a corpus entry; provenance names the folder, its run and its origin."""
-    from ..case import Case
     from ..corpus.replay import add_to_corpus
-    from ..corpus.store import provenance_for
+    from ..corpus.save import minimised_entry
 
     original = meta.get("original_case") or {}
     families = meta.get("families") or {}
     family = str(original.get("family") or (sorted(families)[0] if families else "reproduced"))
-    case = Case(points=np.asarray(points, dtype=np.float64), dim=int(meta["dim"]), family=family,
-                params=dict(original.get("params") or {}), seed=original.get("seed"), size=original.get("size"),
-                source=f"minimised from {original.get('case_id', '?')}")
-    provenance = provenance_for(
-        case, found_by=f"hullstress reproduce {folder.resolve()}", original_size=meta.get("original_size"),
-        extra={"signature": meta.get("cause"), "original_case_id": original.get("case_id")})
+    case, provenance = minimised_entry(
+        points, int(meta["dim"]), family, signature=meta.get("cause"),
+        found_by=f"hullstress reproduce {folder.resolve()}", original_size=meta.get("original_size"),
+        original_case_id=original.get("case_id"), params=original.get("params"), seed=original.get("seed"),
+        size=original.get("size"))
     [(path, written)] = add_to_corpus(directory, [(case, provenance)], workers=1, timeout=timeout)
     return path, written

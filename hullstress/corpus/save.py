@@ -52,6 +52,49 @@ def select_for_corpus(records: Sequence[Any], new_groups: Collection[tuple[str, 
     return [best[k] for k in sorted(best)]
 
 
+def minimised_entry(
+    points: np.ndarray,
+    dim: int,
+    family: str,
+    *,
+    signature: str | None,
+    found_by: str,
+    original_size: int | None,
+    original_case_id: str | None,
+    params: dict | None = None,
+    seed: int | None = None,
+    size: int | None = None,
+) -> tuple[Case, dict]:
+    """A minimised failure as a corpus entry: the case, with the original's provenance, and its provenance record.
+
+    Parameters
+    ----------
+    points : ndarray of shape (n, dim)
+        The minimal case.
+    dim : int
+    family : str
+        The generator family it was found in.
+    signature : str or None
+        The failure's signature slug.
+    found_by : str
+        The command that found it (``hullstress run ...``, ``hullstress reproduce ...``).
+    original_size : int or None
+        Points of the case it was minimised from.
+    original_case_id : str or None
+        That case's id (None when unknown).
+    params, seed, size
+        The original case's generator parameters, seed and size.
+    """
+    case = Case(
+        points=np.asarray(points, dtype=np.float64), dim=dim, family=family, params=dict(params or {}),
+        seed=seed, size=size,
+        source=f"minimised from {original_case_id}" if original_case_id is not None else "minimised",
+    )
+    provenance = provenance_for(case, found_by=found_by, original_size=original_size,
+                                extra={"signature": signature, "original_case_id": original_case_id})
+    return case, provenance
+
+
 def save_minimised_failures(
     directory: str | os.PathLike[str],
     records: Sequence[Any],
@@ -72,23 +115,17 @@ def save_minimised_failures(
     by_id = {c.case_id: c for c in cases}
     items: list[tuple[Case, dict]] = []
     for rec in select_for_corpus(records, new_groups):
-        sig = rec.signature
         group = getattr(rec, "group", None)
         original = by_id.get(group.smallest_case_id) if group is not None else None
         points = np.asarray(rec.case.points, dtype=np.float64)
         dim = original.dim if original is not None else (points.shape[1] if points.ndim == 2 else 3)
-        case = Case(
-            points=points, dim=dim, family=rec.families[0][0],
-            params=original.params if original is not None else {},
+        items.append(minimised_entry(
+            points, dim, rec.families[0][0], signature=rec.signature.slug, found_by=found_by,
+            original_size=rec.shrink.original_size,
+            original_case_id=original.case_id if original is not None else None,
+            params=original.params if original is not None else None,
             seed=original.seed if original is not None else None,
-            size=original.size if original is not None else None,
-            source=f"minimised from {original.case_id}" if original is not None else "minimised",
-        )
-        prov = provenance_for(
-            case, found_by=found_by, original_size=rec.shrink.original_size,
-            extra={"signature": sig.slug, "original_case_id": original.case_id if original is not None else None},
-        )
-        items.append((case, prov))
+            size=original.size if original is not None else None))
     if not items:
         return []
     return add_to_corpus(directory, items, workers=workers, timeout=timeout)
