@@ -9,7 +9,7 @@
 # `mutation` Hypothesis profile.  Afterwards tools/mutation_report.py writes
 # reports/mutation/mutation-report.md (score, survivors with their recorded reasons; for a
 # restricted run, of the named mutants only) and exits 1 if a survivor has no reason in
-# tools/mutation_survivors.toml.
+# tools/mutation_survivors/*.toml.
 #
 # Reuse between runs.  mutants/ holds the generated mutants, mutmut's stats (which test
 # reaches which function: collecting them runs the whole test selection once, 10-20

@@ -5,7 +5,7 @@ Run by ``tools/mutation.sh`` after ``mutmut run`` (from the repository root, whe
 (killed and timed-out mutants over all checked ones; "no tests" counts as
 surviving), counts per status, and one table row per surviving mutant with the
 changed line and the reason it is equivalent or harmless, taken from
-``tools/mutation_survivors.toml``.  Given mutant name patterns (those the run was
+``tools/mutation_survivors/*.toml`` (one file per module).  Given mutant name patterns (those the run was
 restricted to), it counts only the matching mutants: ``mutants/`` may hold results
 of earlier restricted runs of other modules.  A survivor without a reason is listed as
 UNEXPLAINED and makes the exit status 1: kill it with a test (preferably a
@@ -31,7 +31,8 @@ from mutmut.mutation.diff_apply import get_diff_for_mutant
 from mutmut.stats import status_by_exit_code
 from mutmut.utils.file_utils import walk_mutatable_files
 
-REASONS = Path(__file__).with_name("mutation_survivors.toml")
+#: One TOML file of reasons per mutated module; ``_common.toml`` (reasons for every module) is read first.
+REASONS = Path(__file__).with_name("mutation_survivors")
 DETECTED = {"killed", "timeout", "caught by type check", "segfault"}
 
 
@@ -73,8 +74,10 @@ def change_of(removed: str, added: str, context: int = 20) -> str:
     return f"`{middle(removed)}` -> `{middle(added)}`".replace("|", "\\|")
 
 
-def load_reasons() -> list[dict]:
-    return tomllib.loads(REASONS.read_text())["survivor"]
+def load_reasons(folder: Path = REASONS) -> list[dict]:
+    """Every recorded reason, ``_common.toml`` first, then the module files in name order."""
+    files = sorted(folder.glob("*.toml"), key=lambda f: (f.name != "_common.toml", f.name))
+    return [entry for f in files for entry in tomllib.loads(f.read_text()).get("survivor", [])]
 
 
 def explain(s: Survivor, reasons: list[dict]) -> str | None:
