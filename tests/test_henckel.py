@@ -261,6 +261,72 @@ def test_an_edge_that_comes_back_is_answered_from_the_memo_with_the_same_face(mo
             assert face == _find_face(pts, a, b, eps, henckel._pivot_limit(n), variant)[0]
 
 
+def _main_loop_as_written(pts, eps, rng, variant):
+    """Steps 5-14 with the seed's plain lists and no shortcut: the faces, or the guard's message.
+
+    The reference for the trace's memo and its early trip of the face guard on a
+    stuck run: a Python list as the to-do list (``remove`` drops the first copy,
+    the front is ``todo[0]``), a list as the edge list, and the face guard after
+    ``4 n + 100`` faces, every face found afresh.
+    """
+    n = len(pts)
+    a, b, _, _ = henckel._initial_edge(pts, rng, variant.name)
+    faces, edge_list, todo = [], [], []
+    while True:
+        if len(faces) >= henckel._face_limit(n):
+            return (f"{variant.name}: steps 5-14 (main loop) built {henckel._face_limit(n)} faces "
+                    f"(4*n+100 for n={n}) and the to-do list is not empty (front edge ({a}, {b}))")
+        face, _ = _find_face(pts, a, b, eps, henckel._pivot_limit(n), variant)
+        faces.append(face)
+        for p1, p2 in zip(face, face[1:] + face[:1]):
+            if (p2, p1) in edge_list:
+                if (p1, p2) in todo:
+                    todo.remove((p1, p2))
+            else:
+                edge_list.append((p1, p2))
+                todo.append((p2, p1))
+        if not todo:
+            return faces
+        a, b = todo[0]
+
+
+@settings(max_examples=30, deadline=None)
+@given(
+    n=st.integers(4, 40),
+    seed=st.integers(0, 2**32 - 1),
+    kind=st.sampled_from(["ball", "cube", "gauss", "grid", "prism"]),
+    variant=st.sampled_from([LITERAL, NORMALISED]),
+    direction_seed=st.integers(0, 2**16),
+)
+@example(n=12, seed=0, kind="prism", variant=LITERAL, direction_seed=0)
+@example(n=27, seed=0, kind="grid", variant=NORMALISED, direction_seed=0)
+def test_a_stuck_run_trips_the_face_guard_early_with_the_message_of_the_full_loop(n, seed, kind, variant,
+                                                                                 direction_seed):
+    # A run whose front to-do edge is missing from its own face never loses it: the trace
+    # trips the face guard at once.  That must be exactly what the seed's loop, run to
+    # 4 n + 100 faces with plain lists, ends with; and a run that closes must give the
+    # same faces.
+    if kind == "grid":  # integer grid: coplanar faces with interior and collinear points
+        k = round(n ** (1 / 3)) or 1
+        pts = np.array(list(itertools.product(range(k + 1), repeat=3)), dtype=float)
+    elif kind == "prism":  # hexagonal prisms: the literal key's obtuse angles
+        hexagon = [(2.0, 0.0), (1.0, 1.0), (-1.0, 1.0), (-2.0, 0.0), (-1.0, -1.0), (1.0, -1.0)]
+        pts = np.array([[x, y, z] for z in (0.0, float(1 + seed % 3)) for x, y in hexagon])
+    else:
+        pts = random_cloud(seed, n, kind)
+    eps = tolerance(pts, "scaled")
+
+    def ending(run):
+        try:
+            return run(pts, eps, np.random.default_rng(direction_seed), variant)
+        except (AlgorithmStepLimit, ValueError) as exc:  # a pivot guard or step 5's error: the same in both
+            return f"{type(exc).__name__}: {exc}"
+
+    want = ending(_main_loop_as_written)
+    got = ending(lambda *args: _henckel_trace(*args).faces)
+    assert got == (f"AlgorithmStepLimit: {want}" if isinstance(want, str) and "main loop" in want else want)
+
+
 def test_literal_face_order_is_the_ascending_key_over_the_whole_face():
     # The face list is every on-plane point, B included, sorted by the key as
     # written (stable: ties in index order), on an exact input with a 9-point face.

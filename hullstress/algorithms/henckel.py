@@ -96,9 +96,12 @@ exact arithmetic each pivot turns the plane further round ``AB``, so
 cycle); at most ``4 n + 100`` faces are built (a hull on ``n`` points has at
 most ``2 n - 4`` faces, and each iteration builds a new one).  Steps 5-10
 depend only on the edge, so the face found for an edge is remembered and an
-edge that comes back is answered from that memo: a run stuck on its front
-edge reaches the face guard with the same faces, pivots and message, in a
-fraction of the time.
+edge that comes back is answered from that memo.  A run is *stuck* when the
+face built on its front to-do edge does not have that edge: only step 12
+removes to-do entries, and only edges of the face being added, so the entry
+stays at the front and every later iteration builds the same face on it until
+the face guard.  The guard then trips at once, with the same error and
+message it would give after ``4 n + 100`` faces.
 
 Every dot product is written as elementwise products summed left to right
 (:func:`_dots`), never BLAS, so one input gives the same faces on every
@@ -330,8 +333,11 @@ def _henckel_trace(
         max_pivots = _pivot_limit(n)
         pivots = 0
         found_for: dict[tuple[int, int], tuple[list[int], int]] = {}
+        stuck = False
+        from_todo = False  # the initial edge is no to-do entry
         while True:
-            if len(faces) >= max_faces:
+            if stuck or len(faces) >= max_faces:
+                # One raise site for both: the error's frame is part of a failure's signature.
                 raise AlgorithmStepLimit(
                     f"{variant.name}: steps 5-14 (main loop) built {max_faces} faces (4*n+100 for n={n}) "
                     f"and the to-do list is not empty (front edge ({a}, {b}))"
@@ -346,7 +352,8 @@ def _henckel_trace(
             pivots += taken
             faces.append(list(face))
             face_edges.append((a, b))
-            for p1, p2 in zip(face, face[1:] + face[:1]):
+            perimeter = list(zip(face, face[1:] + face[:1]))
+            for p1, p2 in perimeter:
                 if (p2, p1) in edge_set:
                     if (p1, p2) in todo:
                         todo.remove((p1, p2))
@@ -356,7 +363,15 @@ def _henckel_trace(
                     todo.append((p2, p1))
             if not todo:
                 break
+            # Stuck: (a, b) came from the front of the to-do list, and only step 12
+            # removes a to-do entry, for an edge of the face just built.  If that face
+            # (the same one each time: memoised) does not have the edge (a, b), the
+            # entry is never removed, stays at the front, and every later iteration
+            # builds the same face on it until the face guard trips with this front
+            # edge: trip it now.
+            stuck = from_todo and (a, b) not in perimeter
             a, b = todo.front()
+            from_todo = True
     return HenckelTrace(
         eps=eps,
         direction=direction,
