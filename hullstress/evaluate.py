@@ -187,6 +187,56 @@ def _finite(points: np.ndarray) -> bool:
     return points.ndim == 2 and bool(np.isfinite(points).all())
 
 
+# The sphere method's projection depends only on the points and the duplicate
+# tolerance, so every config of a case with sphere on and the same tolerance
+# (each algorithm, per eps policy) gets the same projected points: computed once.
+_PROJECTIONS: OrderedDict[tuple[str, float], tuple[np.ndarray, np.ndarray] | str] = OrderedDict()
+_PROJECTIONS_SIZE = 8
+
+
+def _projection(case: Case, duplicate_eps: float) -> tuple[np.ndarray, np.ndarray]:
+    """The sphere method's projected points (read-only) and index map for ``case``, remembered.
+
+    Raises
+    ------
+    PreprocessError
+        The method raised, or its projected points are not finite (the same
+        error every time for the same points and tolerance).
+    """
+    key = (case.content_hash, duplicate_eps)
+    known = _PROJECTIONS.get(key)
+    if known is None:
+        known = _fresh_projection(case.points, duplicate_eps)
+        if key == key:  # a NaN tolerance (non-finite input) is never equal to itself: not kept
+            _PROJECTIONS[key] = known
+            while len(_PROJECTIONS) > _PROJECTIONS_SIZE:
+                _PROJECTIONS.popitem(last=False)
+    else:
+        _PROJECTIONS.move_to_end(key)
+    if isinstance(known, str):
+        raise PreprocessError(known)
+    return known
+
+
+def _fresh_projection(points: np.ndarray, duplicate_eps: float) -> tuple[np.ndarray, np.ndarray] | str:
+    """:func:`~hullstress.sphere.sphere_project` as the preprocessing step: its result, or why it failed."""
+    from .sphere import sphere_project  # scipy: imported when first needed
+
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            projected, index_map = sphere_project(points, eps=duplicate_eps)
+    except Exception as exc:  # the method's own exceptions (bad shape, NaN, an unprojectable point)
+        return f"sphere projection: {one_line(exc)}"
+    if not np.isfinite(projected).all():
+        return "sphere projection: the projected points are not finite (the method's float arithmetic overflowed)"
+    projected = np.ascontiguousarray(projected, dtype=np.float64)
+    projected.setflags(write=False)
+    index_map = np.asarray(index_map, dtype=np.int64)
+    index_map.setflags(write=False)
+    return projected, index_map
+
+
 def _preprocess(case: Case, config: AlgorithmConfig) -> tuple[np.ndarray, np.ndarray | None, dict[str, Any]]:
     """The variant's preprocessing: the points the algorithm gets, the index map, its keywords.
 
@@ -199,24 +249,11 @@ def _preprocess(case: Case, config: AlgorithmConfig) -> tuple[np.ndarray, np.nda
     index_map: np.ndarray | None = None
     finite = _finite(points)
     if config.sphere == Sphere.ON:
-        from .sphere import sphere_project  # scipy: imported when first needed
-
         policy = sphere_duplicate_policy(config.eps)
         duplicate_eps = tolerance(points, policy)
         if finite and not np.isfinite(duplicate_eps):
             raise PreprocessError(f"eps set-up: the {policy} tolerance is {duplicate_eps!r} for finite input")
-        try:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                projected, index_map = sphere_project(points, eps=duplicate_eps)
-        except Exception as exc:  # the method's own exceptions (bad shape, NaN, an unprojectable point)
-            raise PreprocessError(f"sphere projection: {one_line(exc)}") from None
-        if not np.isfinite(projected).all():
-            raise PreprocessError("sphere projection: the projected points are not finite "
-                                  "(the method's float arithmetic overflowed)")
-        points = np.ascontiguousarray(projected, dtype=np.float64)
-        points.setflags(write=False)
-        index_map = np.asarray(index_map, dtype=np.int64)
+        points, index_map = _projection(case, duplicate_eps)
     kwargs: dict[str, Any] = {}
     if config.eps != NO_EPS:
         eps_value = tolerance(points, config.eps)

@@ -204,9 +204,45 @@ def test_preprocess_errors_name_the_step(monkeypatch):
     # A projection that overflows: not finite, named.
     monkeypatch.setattr("hullstress.sphere.sphere_project",
                         lambda points, eps: (np.full_like(points, np.inf), np.arange(len(points))))
+    monkeypatch.setattr(ev, "_PROJECTIONS", type(ev._PROJECTIONS)())  # forget the real projection of SQUARE
     with pytest.raises(ev.PreprocessError, match=r"^sphere projection: the projected points are not finite "
                                                  r"\(the method's float arithmetic overflowed\)$"):
         ev._preprocess(_case(SQUARE), AlgorithmConfig("test-ev-hull", "on"))
+
+
+def test_a_case_is_projected_once_per_duplicate_tolerance(monkeypatch):
+    # Every config of a case with sphere on and the same duplicate tolerance is given the same
+    # projected points: the projection runs once, its result (or its error) is handed out again.
+    calls = []
+    real = ev._fresh_projection
+
+    def counting(points, eps):
+        calls.append(eps)
+        return real(points, eps)
+
+    monkeypatch.setattr(ev, "_fresh_projection", counting)
+    monkeypatch.setattr(ev, "_PROJECTIONS", type(ev._PROJECTIONS)())
+    case = _case(SQUARE)
+    first = ev._preprocess(case, AlgorithmConfig("test-ev-hull", "on"))
+    again = ev._preprocess(case, AlgorithmConfig("test-ev-value", "on"))
+    assert len(calls) == 1
+    assert first[0] is again[0] and first[1] is again[1]
+    assert not first[0].flags.writeable and not first[1].flags.writeable
+    # Another tolerance (eps fixed keeps the duplicates the scaled one merges) projects again.
+    ev._preprocess(case, AlgorithmConfig("test-ev-eps", "on", "fixed"))
+    assert len(calls) == 2 and calls[0] != calls[1]
+    # A failing projection fails the same way every time, from the one attempt.
+    tiny = _case(TINY)
+    messages = []
+    for name in ("test-ev-hull", "test-ev-value"):
+        with pytest.raises(ev.PreprocessError, match=r"^sphere projection: ") as err:
+            ev._preprocess(tiny, AlgorithmConfig(name, "on"))
+        messages.append(str(err.value))
+    assert len(calls) == 3 and messages[0] == messages[1]
+    # The memory is bounded: the oldest projections go first.
+    for k in range(ev._PROJECTIONS_SIZE + 3):
+        ev._preprocess(_case(SQUARE * (k + 2)), AlgorithmConfig("test-ev-hull", "on"))
+    assert len(ev._PROJECTIONS) == ev._PROJECTIONS_SIZE
 
 
 def test_call_outcome_kinds_and_what_they_carry():
