@@ -411,6 +411,19 @@ def test_call_pool_returns_rows_in_task_order_and_survives_crashes_and_hangs(plu
         assert pool.run([], timeout=1.0) == []
 
 
+def test_call_pool_judges_with_the_reference_only_the_cases_the_mapping_names(plugin):
+    # One batch can mix cases judged with and without the Qhull reference (triage asks both in a
+    # round): the reference is computed for the cases mapped to True and for no other.
+    cases = _cases(3)
+    config = AlgorithmConfig("monotone-chain", eps="scaled")
+    tasks = [Task(i, c, (config,)) for i, c in enumerate(cases)]
+    with CallPool(2, memory_limit_mb=None) as pool:
+        rows = pool.run(tasks, timeout=5.0, qhull={cases[0].case_id: True, cases[1].case_id: False})
+    agreement = [r[0]["qhull_agreement"] for r in rows]
+    assert [r[0].status for r in rows] == ["pass"] * 3
+    assert agreement[0] == "agree" and agreement[1] in (None, "") and agreement[2] in (None, "")
+
+
 def test_call_pool_uses_every_worker(plugin):
     cases = _cases(12)
     with CallPool(2, memory_limit_mb=None) as pool:

@@ -24,7 +24,7 @@ import atexit
 import sys
 import threading
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from types import TracebackType
 
 from ..case import Case
@@ -238,7 +238,7 @@ class CallPool:
     def workers(self) -> int:
         return self._pool.size
 
-    def run(self, tasks: Sequence[Task], *, timeout: float, qhull: bool = True,
+    def run(self, tasks: Sequence[Task], *, timeout: float, qhull: bool | Mapping[str, bool] = True,
             check_timeout: float | None = None, qhull_options: str | None = None) -> list[list[ResultRow]]:
         """Run every config of every task; rows per task, in config order.
 
@@ -248,8 +248,10 @@ class CallPool:
             Tasks with the same case (same ``case_id``) get the same rows.
         timeout : float
             Per-call limit in seconds; beyond it the row is ``timeout``.
-        qhull : bool
-            Compute the Qhull reference with the case facts.
+        qhull : bool or mapping of str to bool
+            Compute the Qhull reference with the case facts: for every task,
+            or per case id (cases missing from the mapping get none).  One
+            batch can so mix cases judged with and without a reference.
         check_timeout : float, optional
             Limit on the checker; default ``max(60, 10 * timeout)``.
         qhull_options : str, optional
@@ -263,9 +265,11 @@ class CallPool:
         tasks = list(tasks)
         if not tasks:
             return []
-        options = RunnerOptions(workers=self.workers, timeout=timeout, qhull=qhull, check_timeout=check_timeout)
+        per_case = qhull if isinstance(qhull, Mapping) else None
+        options = RunnerOptions(workers=self.workers, timeout=timeout, qhull=per_case is not None or bool(qhull),
+                                check_timeout=check_timeout)
         settings = PoolSettings(timeout=options.timeout, check_timeout=options.effective_check_timeout,
-                                qhull=qhull, refs=algorithm_refs(tasks), qhull_options=qhull_options)
+                                qhull=options.qhull, refs=algorithm_refs(tasks), qhull_options=qhull_options)
         found: dict[tuple[str, str], ResultRow] = {}
 
         def keep(row: ResultRow) -> None:
@@ -277,7 +281,9 @@ class CallPool:
             first = merged.get(t.case.case_id)
             configs = t.configs if first is None else tuple(dict.fromkeys(first.configs + t.configs))
             merged[t.case.case_id] = Task(t.index if first is None else first.index, t.case, configs)
-        self._pool.run([PendingJob(t) for t in merged.values()], settings, keep, self.stats)
+        jobs = [PendingJob(t, qhull=None if per_case is None else bool(per_case.get(t.case.case_id, False)))
+                for t in merged.values()]
+        self._pool.run(jobs, settings, keep, self.stats)
         out = []
         for t in tasks:
             rows = [found.get((t.case.case_id, c.label)) for c in t.configs]

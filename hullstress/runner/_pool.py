@@ -198,6 +198,8 @@ class PendingJob:
     start_at: int = 0
     facts: CaseFacts | None = None
     deaths: int = 0
+    #: Compute the Qhull reference with the case facts (None: the run's ``PoolSettings.qhull``).
+    qhull: bool | None = None
     # The pickled job for ``start_at`` (a job that waits for an idle worker is looked at many times).
     wire: tuple[int, bytes] | None = field(default=None, repr=False)
 
@@ -439,7 +441,8 @@ class WorkerPool:
             return job.wire[1]
         names = dict.fromkeys(c.algorithm for c in job.task.configs[job.start_at:])
         refs = tuple(settings.refs[n] for n in names if n in settings.refs)
-        wire = Job(task=job.task, start_at=job.start_at, qhull=settings.qhull, facts=job.facts,
+        qhull = settings.qhull if job.qhull is None else job.qhull
+        wire = Job(task=job.task, start_at=job.start_at, qhull=qhull, facts=job.facts,
                    refs=refs, budget_deadline=settings.budget_deadline, qhull_options=settings.qhull_options)
         payload = pickle.dumps(wire, protocol=pickle.HIGHEST_PROTOCOL)
         job.wire = (job.start_at, payload)

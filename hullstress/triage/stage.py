@@ -204,18 +204,18 @@ class _Triage:
                 self.reused += 1
             elif key not in found:
                 configs.setdefault(key[0], []).append(config)
-        for qhull in (True, False):
-            tasks = [Task(n, cases[cid], tuple(dict.fromkeys(cfgs))) for n, (cid, cfgs) in enumerate(configs.items())
-                     if (cid in needs_qhull) == qhull]
-            # Largest candidates first (a round ends with its slowest call): the early deletion steps of
-            # a 100-point case then run beside the many few-point ones instead of alone at the end.
-            # Rows are matched by task, so the order changes no answer.
-            tasks.sort(key=lambda t: -t.case.n_points * len(t.configs))
-            for task, rows in zip(tasks, self.pool.run(tasks, timeout=self.timeout, qhull=qhull,
-                                                          qhull_options=self.qhull_options)):
-                for config, row in zip(task.configs, rows):
-                    key = (task.case.case_id, config.label, qhull, self.timeout)
-                    found[key] = self.answers[key] = row
+        # One batch, cases with and without the reference together (a round ends with its slowest call).
+        tasks = [Task(n, cases[cid], tuple(dict.fromkeys(cfgs))) for n, (cid, cfgs) in enumerate(configs.items())]
+        # Largest candidates first: the early deletion steps of a 100-point case then run beside the
+        # many few-point ones instead of alone at the end.  Rows are matched by task, so the order
+        # changes no answer.
+        tasks.sort(key=lambda t: -t.case.n_points * len(t.configs))
+        qhull = {t.case.case_id: t.case.case_id in needs_qhull for t in tasks}
+        for task, rows in zip(tasks, self.pool.run(tasks, timeout=self.timeout, qhull=qhull,
+                                                      qhull_options=self.qhull_options)):
+            for config, row in zip(task.configs, rows):
+                key = (task.case.case_id, config.label, qhull[task.case.case_id], self.timeout)
+                found[key] = self.answers[key] = row
         while len(self.answers) > _ANSWERS_KEPT:
             self.answers.popitem(last=False)
         return [found[k] for k in full]
