@@ -387,6 +387,13 @@ def run(
     began = time.perf_counter()
     say = echo or (lambda line: None)
     sweep = options.sweep
+    if sweep.runner_options().workers >= 1:
+        from .runner import start_method
+
+        # Start the fork server that every isolated worker is forked from now: it imports NumPy, SciPy
+        # and hullstress (about half a second) in its own process while this one builds the cases,
+        # instead of while the sweep's first workers wait for it.
+        start_method()
     baseline = load_baseline(options.baseline) if options.baseline else None  # fails before the sweep
     the_plan = plan(sweep, out=options.out, last_failed=options.last_failed)
     _check_output_folders(options)
