@@ -542,6 +542,7 @@ def _report(the_run: Run, options: RunOptions, signals: _Signals, started: float
                 comparison=the_run.comparison, baseline_label=options.baseline,
                 should_stop=signals.stop_requested, registration=options.registration,
                 tables_written=not the_run.environment_errors, interruptible=signals.raising,
+                workers=max(1, sweep.runner_options().workers),
             )
     except KeyboardInterrupt:
         pass  # a second signal: the report stays as far as it got; run.json says why below

@@ -248,6 +248,27 @@ def test_a_table_read_back_gives_the_same_findings(tmp_path, capsys):
     pd.testing.assert_frame_equal(again, pd.read_csv(pd.io.common.StringIO(direct.to_csv(index=False))))
 
 
+def test_findings_computed_beside_the_report_are_the_findings_of_the_table(monkeypatch):
+    # With workers to spare the report computes the findings in a process of its own while it
+    # writes the folders; the same function of the same table, so the same claims, and here when
+    # that process cannot start.
+    from hullstress.report import stage
+    from hullstress.runner import start_method
+
+    start_method()  # the run's fork server, with its imports (as in a run), not a bare one started here
+    table = pd.concat([_sphere_table(), _eps_table()], ignore_index=True)
+    want = findings_markdown(compute_findings(table, source="run `x`"))
+    beside = stage._findings_beside(table, "run `x`", 2)
+    assert findings_markdown(beside()) == want
+    assert findings_markdown(stage._findings_beside(table, "run `x`", 1)()) == want
+
+    def refused(*args, **kwargs):
+        raise OSError("no process for you")
+
+    monkeypatch.setattr(stage, "ProcessPoolExecutor", refused)
+    assert findings_markdown(stage._findings_beside(table, "run `x`", 2)()) == want
+
+
 @pytest.fixture(scope="module")
 def tiny_run(tmp_path_factory) -> Path:
     """A real run: two algorithms, three families, one small size, in this process."""

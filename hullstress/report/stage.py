@@ -17,7 +17,10 @@ skips the remaining pictures and the notes say so.
 from __future__ import annotations
 
 import json
+import multiprocessing
 import time
+from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures.process import BrokenProcessPool
 from collections.abc import Callable, Mapping, Sequence
 from contextlib import nullcontext
 from dataclasses import dataclass, field
@@ -94,6 +97,7 @@ def write_run_report(
     registration: Sequence[str] = (),
     tables_written: bool = False,
     interruptible: Callable[[], ContextManager[Any]] | None = None,
+    workers: int = 1,
 ) -> ReportFiles:
     """Write every file of the run folder from the run's records.
 
@@ -135,6 +139,11 @@ def write_run_report(
         A context (the pipeline's) in which an interrupt raises at once:
         each picture is drawn inside it, so a signal cuts the picture under
         way short (it is skipped) instead of waiting for it.
+    workers : int
+        Processes the run may keep busy (its ``--workers``): with two or
+        more, the findings are computed in another process while this one
+        writes the folders and draws the pictures (the same findings: they
+        are a function of the table alone).
 
     Returns
     -------
@@ -142,6 +151,7 @@ def write_run_report(
     """
     start = time.perf_counter()
     run_dir = Path(run_dir)
+    findings_of_the_table = _findings_beside(table, run_source(meta), workers)
     write_report(run_dir, table, meta, tables=not tables_written)
     notes = list(triage.notes)
     records: list[FailureRecord] = []
@@ -189,7 +199,7 @@ def write_run_report(
         notes.append(f"Metamorphic copies: {len(changes)} of {copies} calls on a transformed copy gave another "
                      "verdict than on the original (metamorphic.csv).")
     folders = {r.cause.slug: r.folder.relative_to(run_dir).as_posix() for r in records}
-    findings = compute_findings(table, source=run_source(meta))
+    findings = findings_of_the_table()
     findings_md, findings_csv = write_findings(run_dir, findings)
     # summary.md fits on a screen: one sentence per claim; findings.md has the rest.
     reading = [f"{claim.title}: {claim.reading[0]}" for claim in findings.claims if claim.reading]
@@ -206,6 +216,38 @@ def write_run_report(
     return ReportFiles(records=records, notes=notes, findings=findings, html=html_path, summary=summary,
                        findings_md=findings_md, findings_csv=findings_csv, index=index, junit=junit,
                        seconds=time.perf_counter() - start, hints=hints)
+
+
+def _findings_beside(table: pd.DataFrame, source: str, workers: int) -> Callable[[], Findings]:
+    """Start :func:`compute_findings` of ``table``; call the result for the findings.
+
+    With ``workers >= 2`` they are computed in a process of their own (forked
+    from the run's fork server, so it starts with pandas loaded) while the
+    caller writes the cause folders and pictures; otherwise, or if that
+    process cannot start or dies, here, when asked for.  Either way the
+    same function of the same table: the same findings.
+    """
+    def here() -> Findings:
+        return compute_findings(table, source=source)
+
+    if workers < 2 or "forkserver" not in multiprocessing.get_all_start_methods():
+        return here
+    try:
+        # The fork server, not fork: the run's own process may hold threads (a progress bar).
+        executor = ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("forkserver"))
+        future = executor.submit(compute_findings, table, source=source)
+    except (OSError, RuntimeError):
+        return here
+
+    def collected() -> Findings:
+        try:
+            return future.result()
+        except (BrokenProcessPool, OSError):  # the helper died (an interrupt reached it): compute them here
+            return here()
+        finally:
+            executor.shutdown(wait=False, cancel_futures=True)
+
+    return collected
 
 
 def _needs_registration(algorithm: str) -> bool:
