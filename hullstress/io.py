@@ -32,6 +32,7 @@ message naming the file and the problem.
 
 from __future__ import annotations
 
+import io
 import math
 import os
 import re
@@ -50,6 +51,8 @@ __all__ = [
     "FACE_FORMATS",
     "read_points",
     "read_points_text",
+    "read_points_bytes",
+    "points_file_bytes",
     "read_faces",
     "write_points",
     "write_faces",
@@ -117,9 +120,10 @@ def _leading_int(tokens: list[str]) -> int | None:
     return None
 
 
-def _load_npy(path: Path, what: str) -> np.ndarray:
+def _load_npy(path: Path, what: str, data: bytes | None = None) -> np.ndarray:
+    """The array in the ``.npy`` file ``path`` (or in ``data``, that file's bytes)."""
     try:
-        arr = np.load(path, allow_pickle=False)
+        arr = np.load(path if data is None else io.BytesIO(data), allow_pickle=False)
     except FileNotFoundError:
         raise InputFileError(f"{_label(path, what)} does not exist") from None
     except (ValueError, OSError, EOFError) as exc:
@@ -337,17 +341,50 @@ def read_points(path: str | os.PathLike[str], *, dim: int | None = None) -> np.n
     path = Path(path)
     if dim is not None and dim not in (2, 3):
         raise InputFileError(f"dim must be 2, 3 or None, got {dim!r}")
+    if path.suffix.lower() == ".npy":
+        return _npy_points(path, _load_npy(path, "points"), dim)
+    return _text_points(path, _read_text_lines(path, "points"), dim)
+
+
+def read_points_bytes(data: bytes, *, name: str, dim: int | None = None) -> np.ndarray:
+    """Read the bytes of a points file named ``name`` exactly as :func:`read_points` reads the file.
+
+    The extension of ``name`` picks the format, as for a file; ``name`` also
+    names the source in error messages.  With :func:`points_file_bytes` it
+    proves that a point set survives a file without touching the disk.
+
+    Examples
+    --------
+    >>> pts = np.array([[0.1, 5e-324], [1e300, -0.0]])
+    >>> np.array_equal(read_points_bytes(points_file_bytes(pts, "csv"), name="pts.csv"), pts)
+    True
+    """
+    path = Path(name)
+    if dim is not None and dim not in (2, 3):
+        raise InputFileError(f"dim must be 2, 3 or None, got {dim!r}")
+    if path.suffix.lower() == ".npy":
+        return _npy_points(path, _load_npy(path, "points", data), dim)
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError:
+        raise InputFileError(f"{_label(path, 'points')} is not UTF-8 text (use .npy for binary arrays)") from None
+    return _text_points(path, _text_rows(text, path, "points"), dim)
+
+
+def _npy_points(path: Path, arr: np.ndarray, dim: int | None) -> np.ndarray:
+    """The points of a ``.npy`` array: float64, or integers exactly representable as such."""
+    if arr.dtype.kind in "iu":
+        if arr.size and int(np.abs(arr.astype(object)).max()) > _EXACT_INT:
+            raise InputFileError(f"{_label(path, 'points')}: integer coordinates beyond 2**53 are not exact in float64")
+        arr = arr.astype(np.float64)
+    elif arr.dtype.kind != "f":
+        raise InputFileError(f"{_label(path, 'points')}: expected a float or integer array, got dtype {arr.dtype}")
+    return _validate_points(path, arr.astype(np.float64, copy=False), dim)
+
+
+def _text_points(path: Path, rows: list[tuple[int, list[str]]], dim: int | None) -> np.ndarray:
+    """The points of a text file's rows, in the format its extension names (or the one sniffed)."""
     ext = path.suffix.lower()
-    if ext == ".npy":
-        arr = _load_npy(path, "points")
-        if arr.dtype.kind in "iu":
-            if arr.size and int(np.abs(arr.astype(object)).max()) > _EXACT_INT:
-                raise InputFileError(f"{_label(path, 'points')}: integer coordinates beyond 2**53 are not exact in float64")
-            arr = arr.astype(np.float64)
-        elif arr.dtype.kind != "f":
-            raise InputFileError(f"{_label(path, 'points')}: expected a float or integer array, got dtype {arr.dtype}")
-        return _validate_points(path, arr.astype(np.float64, copy=False), dim)
-    rows = _read_text_lines(path, "points")
     if ext == ".off":
         pts, _ = _off_points(path, rows)
     elif ext == ".csv":
@@ -538,16 +575,44 @@ def write_points(
     True
     """
     path = Path(path)
+    fmt = format or {".npy": "npy", ".csv": "csv", ".off": "off", ".xyz": "xyz"}.get(path.suffix.lower(), "qhull")
+    path.write_bytes(points_file_bytes(points, fmt, faces=faces, hex_floats=hex_floats))
+    return path
+
+
+def points_file_bytes(
+    points: np.ndarray,
+    format: str,
+    *,
+    faces: Sequence[Sequence[int]] | None = None,
+    hex_floats: bool = False,
+) -> bytes:
+    """The bytes :func:`write_points` writes for ``points`` in ``format``.
+
+    Parameters
+    ----------
+    points : ndarray of shape (n, d), float64
+    format : {"npy", "csv", "qhull", "off", "xyz"}
+    faces : sequence of sequences of int, optional
+        For ``off``: the face block.
+    hex_floats : bool
+        Print ``float.hex`` literals instead of the shortest round-tripping decimal.
+
+    Examples
+    --------
+    >>> points_file_bytes(np.array([[0.5, -0.0], [1.0, 1e-300]]), "csv")
+    b'x,y\\n0.5,-0.0\\n1.0,1e-300\\n'
+    """
     pts = np.asarray(points, dtype=np.float64)
     if pts.ndim != 2 or pts.shape[1] not in (2, 3):
         raise ValueError(f"points must have shape (n, 2) or (n, 3), got {pts.shape}")
-    fmt = format or {".npy": "npy", ".csv": "csv", ".off": "off", ".xyz": "xyz"}.get(path.suffix.lower(), "qhull")
+    fmt = format
     if fmt not in POINT_FORMATS:
         raise ValueError(f"format must be one of {', '.join(POINT_FORMATS)}, got {fmt!r}")
     if fmt == "npy":
-        with open(path, "wb") as fh:  # np.save would append .npy to other names
-            np.save(fh, pts, allow_pickle=False)
-        return path
+        buffer = io.BytesIO()
+        np.save(buffer, pts, allow_pickle=False)
+        return buffer.getvalue()
     rows = [" ".join(_format_float(float(x), hex_floats) for x in row) for row in pts.tolist()]
     n, d = pts.shape
     if fmt == "csv":
@@ -563,8 +628,7 @@ def write_points(
         faces = [list(map(int, f)) for f in (faces or [])]
         lines = [f"{len(f)} " + " ".join(map(str, f)) for f in faces]
         text = f"OFF\n{n} {len(faces)} 0\n" + "\n".join(rows + lines)
-    path.write_text(text + "\n", encoding="utf-8")
-    return path
+    return (text + "\n").encode("utf-8")
 
 
 def write_faces(path: str | os.PathLike[str], faces: Any, format: str | None = None) -> Path:

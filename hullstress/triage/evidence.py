@@ -12,7 +12,6 @@
 
 from __future__ import annotations
 
-import tempfile
 import warnings
 from pathlib import Path
 from typing import Any
@@ -34,20 +33,14 @@ STORAGE_KINDS = ("csv", "npy", "raw")
 
 
 def _reread(points: np.ndarray, kind: str) -> np.ndarray | None:
-    """``points`` written as ``kind`` into a scratch folder and read back as a points file, or None."""
+    """``points`` written as a ``kind`` points file and read back (the same writer and reader, in memory), or None."""
     from ..errors import InputFileError
-    from ..io import read_points, write_points
+    from ..io import points_file_bytes, read_points_bytes
 
-    with tempfile.TemporaryDirectory(prefix="hullstress-evidence-") as tmp:
-        path = Path(tmp) / f"points.{kind}"
-        try:
-            if kind == "csv":
-                write_points(path, points, "csv")
-            else:
-                np.save(path, np.asarray(points, dtype=np.float64), allow_pickle=False)
-            return read_points(path)
-        except (ValueError, InputFileError):
-            return None
+    try:
+        return read_points_bytes(points_file_bytes(points, kind), name=f"points.{kind}")
+    except (ValueError, InputFileError):
+        return None
 
 
 def storage_kind(points: np.ndarray) -> str:
