@@ -234,3 +234,99 @@ def test_the_answers_kept_for_reuse_are_bounded_and_the_least_recently_used_go_f
     assert len(pool.calls) == 3 and run.reused == 2  # still kept
     run.batch([(second, 2, config, False)])
     assert len(pool.calls) == 4  # asked again: a new call, the same answer a re-run gives
+
+
+# -- streaming: the same result whatever order the calls end in ---------------------------------------
+
+
+class _ShufflingPool:
+    """A stand-in for the call pool that ends queued calls in a seeded random order, in this process.
+
+    It takes every job the feed holds, then ends one of them at random (its rows go back at
+    once), so answers arrive in an order no real pool would keep: the triage's result must not
+    depend on it.
+    """
+
+    def __init__(self, seed: int) -> None:
+        import random
+
+        self.rng = random.Random(seed)
+        self.jobs = 0
+
+    def stream(self, feed, on_row, *, configs, timeout, check_timeout=None, qhull_options=None):
+        from hullstress.evaluate import evaluate
+
+        taken = []
+        while feed or taken:
+            while feed:
+                taken.append(feed.popleft())
+            job = taken.pop(self.rng.randrange(len(taken)))
+            self.jobs += 1
+            for config in job.task.configs:
+                on_row(evaluate(job.task.case, config, qhull=bool(job.qhull)))
+
+    def run(self, tasks, *, timeout, qhull=True, qhull_options=None):
+        from hullstress.evaluate import evaluate
+
+        return [[evaluate(t.case, c, qhull=qhull.get(t.case.case_id, False) if isinstance(qhull, dict) else qhull)
+                 for c in t.configs] for t in tasks]
+
+
+def test_the_shrinks_and_causes_do_not_depend_on_the_order_calls_end_in():
+    from hullstress.sweep import SweepOptions, run_sweep
+    from hullstress.triage.grouping import group_failures
+    from hullstress.triage.stage import _Triage
+
+    sweep = run_sweep(SweepOptions(generators=("coplanar-grid", "kettner-classroom"), sizes=(8, 24),
+                                   algorithms=("jarvis-march", "gift-wrap-3d", "monotone-chain"), workers=0))
+    groups = group_failures(sweep.table)
+    assert len(groups) >= 5
+    by_id = {c.case_id: c for c in sweep.cases}
+    budget = TriageBudget(calls=400, group_calls=12, hang_calls=0, pictures=0, safety_seconds=600.0,
+                          simplify_calls=4)
+    outcomes = []
+    for seed in (0, 1, 2):
+        pool = _ShufflingPool(seed)
+        run = _Triage(pool, budget=budget, timeout=5.0, qhull=True, should_stop=None, progress=None,
+                      total=len(groups))
+        results: dict = {}
+        run.run(groups, by_id, results, {})
+        outcomes.append(({i: (r.case.points.tobytes(), r.calls, r.steps, r.note, r.adopted)
+                          for i, r in results.items()}, run.used, run.reused, pool.jobs))
+    assert len(outcomes[0][0]) == len(groups)
+    assert outcomes[0][0] == outcomes[1][0] == outcomes[2][0]  # every shrink, step for step
+    assert outcomes[0][1] == outcomes[1][1] == outcomes[2][1]  # the evaluations
+    assert outcomes[0][2] == outcomes[1][2] == outcomes[2][2]  # and those answered by another's call
+    assert any(r.adopted for r in results.values())  # a wave started from a case found before
+
+
+def test_questions_in_flight_share_calls_merge_queued_jobs_and_reruns_get_their_own():
+    from hullstress.runner import JobFeed
+    from hullstress.triage.stage import _InFlight
+
+    flight = _InFlight()
+    feed = JobFeed(on_take=flight.taken)
+    square = Case.from_points([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]], family="shrink")
+    a, b = AlgorithmConfig("monotone-chain", eps="scaled"), AlgorithmConfig("monotone-chain", eps="fixed")
+    job = flight.add(1, square, a, False)
+    feed.push(job, priority=(1, 1))
+    assert flight.add(2, square, a, False) is None  # the same question: the same call
+    assert flight.add(3, square, b, False) is None  # the same case, judged the same way: one job, facts once
+    assert [c.label for c in job.task.configs] == [a.label, b.label] and flight.calls == 2
+    assert flight.add(4, square, a, True) is None  # under way the other way: it waits for that call
+    assert flight.add(5, square, a, False, fresh=True) is None  # a deliberate re-run waits too
+    assert feed.popleft() is job and not feed
+    jarvis = AlgorithmConfig("jarvis-march", eps="scaled")
+    later = flight.add(6, square, jarvis, False)  # the first job is taken: a new one
+    assert later is not None and later is not job
+    row = {"case_id": square.case_id, "config": a.label}
+    answered = flight.answer(row, 5.0, feed)
+    assert answered == [(1, (square.case_id, a.label, False, 5.0)), (2, (square.case_id, a.label, False, 5.0))]
+    # The two that waited are asked in turn, each a call of its own: one (case, config) under way at a time.
+    waited = feed.popleft()
+    assert not feed and (waited.qhull, [c.label for c in waited.task.configs]) == (True, [a.label])
+    assert flight.answer(row, 5.0, feed) == [(4, (square.case_id, a.label, True, 5.0))]
+    # The re-run joins the job still queued for that case (a new call all the same).
+    assert not feed and [c.label for c in later.task.configs] == [jarvis.label, a.label]
+    assert flight.answer(row, 5.0, feed) == [(5, (square.case_id, a.label, False, 5.0))]
+    assert flight.calls == 5

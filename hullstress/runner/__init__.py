@@ -32,8 +32,8 @@ from ..config import AlgorithmConfig
 from ..errors import HullstressError
 from ..evaluate import CaseFacts
 from ..results import ResultRow
-from ._pool import PendingJob, PoolSettings, WorkerPool, start_method
-from ._protocol import algorithm_refs
+from ._pool import JobFeed, PendingJob, PoolSettings, WorkerPool, start_method
+from ._protocol import algorithm_refs, refs_for_configs
 from ._serial import run_serial
 from ._types import DEFAULT_CHECK_TIMEOUT, DEFAULT_MEMORY_LIMIT_MB, ExecutionStats, RunnerOptions, Task
 
@@ -44,6 +44,8 @@ __all__ = [
     "execute",
     "run_one",
     "CallPool",
+    "JobFeed",
+    "PendingJob",
     "DEFAULT_MEMORY_LIMIT_MB",
     "DEFAULT_CHECK_TIMEOUT",
 ]
@@ -293,6 +295,37 @@ class CallPool:
                                       f"{t.case.case_id}")
             out.append(rows)
         return out
+
+    def stream(self, feed: JobFeed, on_row: Callable[[ResultRow], None], *, configs: Sequence[AlgorithmConfig],
+               timeout: float, check_timeout: float | None = None, qhull_options: str | None = None) -> None:
+        """Run the jobs of ``feed`` as workers have room, including those ``on_row`` adds, until none is left.
+
+        Where :meth:`run` takes a batch and returns its rows, this hands each
+        row to ``on_row`` as it arrives, and ``on_row`` may push new jobs
+        (:class:`~hullstress.runner._pool.PendingJob`, with their own
+        ``qhull``) into ``feed``: a caller that decides its next calls from
+        the answers (parallel triage) never waits for the slowest call of a
+        batch.  Isolation is :meth:`run`'s: a crash or hang is a row.
+
+        Parameters
+        ----------
+        feed : JobFeed
+            The jobs, most urgent first; it may grow while this runs.
+        on_row : callable
+            Receives every row; may push jobs, or raise to stop (the workers are killed first).
+        configs : sequence of AlgorithmConfig
+            Every config the jobs may use (their algorithms are made known to the workers).
+        timeout : float
+            Per-call limit in seconds; beyond it the row is ``timeout``.
+        check_timeout : float, optional
+            Limit on the checker; default ``max(60, 10 * timeout)``.
+        qhull_options : str, optional
+            Qhull options tried first for the reference.
+        """
+        options = RunnerOptions(workers=self.workers, timeout=timeout, check_timeout=check_timeout)
+        settings = PoolSettings(timeout=options.timeout, check_timeout=options.effective_check_timeout,
+                                qhull=False, refs=refs_for_configs(configs), qhull_options=qhull_options)
+        self._pool.serve(feed, settings, on_row, self.stats)
 
     def close(self) -> None:
         """Stop the workers."""

@@ -35,6 +35,7 @@ Messages and their meaning are in :mod:`hullstress.runner._protocol`.
 
 from __future__ import annotations
 
+import heapq
 import math
 import multiprocessing
 import os
@@ -56,7 +57,7 @@ from ._protocol import AlgorithmRef, Job, death_reason, emit_row, row_for
 from ._types import ExecutionStats, Task
 from ._worker import worker_main
 
-__all__ = ["WorkerPool", "PoolSettings", "PendingJob", "start_method"]
+__all__ = ["WorkerPool", "PoolSettings", "PendingJob", "JobFeed", "start_method"]
 
 #: A job message this small may wait in a busy worker's pipe (prefetch): it
 #: fits the socket buffer, so sending it never blocks the parent.
@@ -225,6 +226,58 @@ def _ready(fds: list[int], timeout: float) -> set[int]:
     return {fd for fd, _ in poller.poll(math.ceil(timeout * 1000) if timeout > 0 else 0)}
 
 
+class JobFeed:
+    """Jobs for :meth:`WorkerPool.serve` that arrive while it runs, the most urgent (smallest priority) first.
+
+    It offers the part of a deque the pool uses (``popleft``, ``[0]``,
+    ``appendleft``, ``extendleft``, truth and length): jobs the pool hands
+    back (the rest of a task whose worker died) go first, then the pushed
+    ones by priority, ties in the order pushed.
+
+    Examples
+    --------
+    >>> feed = JobFeed()
+    >>> feed.push("late", priority=(2,)); feed.push("early", priority=(1,)); feed.push("early too", priority=(1,))
+    >>> [feed.popleft() for _ in range(len(feed))]
+    ['early', 'early too', 'late']
+    """
+
+    def __init__(self, on_take: Callable[[Any], None] | None = None) -> None:
+        self._front: deque[Any] = deque()
+        self._heap: list[tuple[Any, int, Any]] = []
+        self._pushed = 0
+        #: Told of every job the pool takes out (until then its owner may still change it).
+        self.on_take = on_take
+
+    def push(self, job: Any, *, priority: Any) -> None:
+        """Add ``job`` (a :class:`PendingJob`) with ``priority``."""
+        heapq.heappush(self._heap, (priority, self._pushed, job))
+        self._pushed += 1
+
+    def __bool__(self) -> bool:
+        return bool(self._front or self._heap)
+
+    def __len__(self) -> int:
+        return len(self._front) + len(self._heap)
+
+    def __getitem__(self, index: int) -> Any:
+        if index != 0 or not self:
+            raise IndexError("a job feed shows only its first job")
+        return self._front[0] if self._front else self._heap[0][2]
+
+    def popleft(self) -> Any:
+        job = self._front.popleft() if self._front else heapq.heappop(self._heap)[2]
+        if self.on_take is not None:
+            self.on_take(job)
+        return job
+
+    def appendleft(self, job: Any) -> None:
+        self._front.appendleft(job)
+
+    def extendleft(self, jobs: Iterable[Any]) -> None:
+        self._front.extendleft(jobs)
+
+
 class _Slot:
     """One worker process and what the parent knows about its progress."""
 
@@ -357,7 +410,17 @@ class WorkerPool:
         stats : ExecutionStats
             Updated in place: calls, busy times, restarts, budget.
         """
-        queue: deque[PendingJob] = deque(j for j in jobs if not j.finished)
+        self.serve(deque(j for j in jobs if not j.finished), settings, on_row, stats)
+
+    def serve(self, queue: "deque[PendingJob] | JobFeed", settings: PoolSettings,
+              on_row: Callable[[ResultRow], None], stats: ExecutionStats) -> None:
+        """Run the jobs of ``queue`` until it is empty and every worker idle, as :meth:`run` does.
+
+        ``queue`` may grow while it runs: ``on_row`` may add jobs to it (a
+        :class:`JobFeed`, most urgent first), and they are sent as workers
+        have room, so a caller that decides its next jobs from the rows it
+        gets never waits for a whole batch.
+        """
         try:
             self._loop(queue, settings, on_row, stats)
         except BaseException:

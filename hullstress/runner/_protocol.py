@@ -42,12 +42,13 @@ import signal
 import sys
 import threading
 import time
-from collections.abc import Callable, Iterator, Mapping
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any
 
 from .._registry import ALGORITHMS, AlgorithmSpec, get_algorithm, set_clockwise
+from ..config import AlgorithmConfig
 from ..errors import UsageError, one_line
 from ..evaluate import CaseFacts, call_algorithm, case_facts, judge
 from ..records import Stage, Status
@@ -58,6 +59,7 @@ __all__ = [
     "AlgorithmRef",
     "Job",
     "algorithm_refs",
+    "refs_for_configs",
     "ensure_algorithm",
     "run_job",
     "death_reason",
@@ -154,7 +156,12 @@ def algorithm_refs(tasks: list[Task] | tuple[Task, ...]) -> dict[str, AlgorithmR
     UsageError
         When an algorithm's function cannot be pickled by reference.
     """
-    names = sorted({c.algorithm for t in tasks for c in t.configs})
+    return refs_for_configs([c for t in tasks for c in t.configs])
+
+
+def refs_for_configs(configs: Iterable[AlgorithmConfig]) -> dict[str, AlgorithmRef]:
+    """One :class:`AlgorithmRef` per algorithm of ``configs``, by name (see :func:`algorithm_refs`)."""
+    names = sorted({c.algorithm for c in configs})
     return {name: _ref(get_algorithm(name)) for name in names}
 
 

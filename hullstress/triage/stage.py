@@ -16,15 +16,20 @@ How it works
    own smallest failing case, a group tries a few minimal cases found so far
    (:data:`TRIES`: for its own kind, same variant first, then for other
    kinds): the first on which its config fails with exactly its signature
-   becomes its start, and it then only checks that no point can go.  All
-   running shrinks advance in lockstep (:class:`.shrink.Shrinker`): each
-   round gathers one candidate from every running shrink and runs them as
-   one batch on a pool of isolated workers
-   (:class:`hullstress.runner.CallPool`), one job per distinct candidate,
-   so shrinks that ask about the same points share the case facts.  A
-   candidate that crashes or hangs is a row like any other (``crash``,
-   ``timeout``), never the end of triage.  Hangs are shrunk last, on their
-   own budget (each failing call lasts the whole timeout).
+   becomes its start, and it then only checks that no point can go.  The
+   schedule is that of rounds in lockstep (:class:`.shrink.Shrinker`): in
+   each round every running shrink asks one question, and at the end of
+   the round shrinks finish and waves start.  The calls do not wait for
+   rounds: each answer goes back to its shrink as it arrives and its next
+   question goes at once to a pool of isolated workers
+   (:meth:`hullstress.runner.CallPool.stream`), earliest round first, so no
+   worker idles at the end of a round; only the ends of rounds are applied
+   in order, once their questions are answered.  Shrinks that ask the same
+   question share one call, and questions about one case share one job (and
+   its case facts) while it waits for a worker.  A candidate that crashes
+   or hangs is a row like any other (``crash``, ``timeout``), never the end
+   of triage.  Hangs are shrunk last, on their own budget (each failing call
+   lasts the whole timeout).
 3. **Merge**: groups whose minimal cases coincide up to translation,
    power-of-two scaling, row and axis order (:mod:`.canonical`) form one
    :class:`~.records.Cause`.
@@ -46,8 +51,9 @@ are written into the notes.
 from __future__ import annotations
 
 import dataclasses
+import heapq
 import time
-from collections import OrderedDict
+from collections import Counter, OrderedDict, deque
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
@@ -56,6 +62,7 @@ import pandas as pd
 
 from ..case import Case
 from ..config import AlgorithmConfig
+from ..errors import HullstressError
 from ..options import DEFAULTS, TriageBudget
 from ..results import ResultRow
 from .canonical import canonical_key
@@ -133,6 +140,77 @@ def triage_one(result: ShrinkResult, config: AlgorithmConfig, *, group: FailureG
     verified = verify_from_storage(result.case, kind, config, sig, timeout) if verify else None
     return TriageRecord(signature=sig, config=config, group=group, shrink=result, faces=faces,
                         faces_note=note, storage=kind, verified=verified)
+
+
+@dataclass
+class _Asking:
+    """A running shrink, its chain, and the question it waits on, asked in round ``round``."""
+
+    shrinker: Shrinker
+    chain: int
+    round: int
+    question: Question
+
+
+class _InFlight:
+    """The calls under way or queued, each once, and which groups wait on each.
+
+    A question is a case and a config, judged with or without the Qhull
+    reference.  Shrinks asking the same question share one call (unless one
+    of them re-runs a case on purpose: that is always a call of its own).
+    Questions about one case judged the same way go to the pool as one job
+    while it is still queued, so the case facts are computed once for all
+    of them.  A question about a case and config under way the other way
+    (with the reference, say, while it runs without), or re-run on purpose,
+    waits for that call to end: every row is then told apart by its case
+    and config.
+    """
+
+    def __init__(self) -> None:
+        self._calls: dict[tuple[str, str], tuple[bool, list[int]]] = {}
+        self._later: dict[tuple[str, str], list[tuple[int, Case, AlgorithmConfig, bool, bool]]] = {}
+        self._queued: dict[tuple[str, bool], "PendingJob"] = {}  # jobs not taken by the pool yet
+        self.calls = 0
+
+    def taken(self, job: "PendingJob") -> None:
+        """The pool took ``job`` out of the feed: it no longer takes more configs."""
+        key = (job.task.case.case_id, bool(job.qhull))
+        if self._queued.get(key) is job:
+            del self._queued[key]
+
+    def add(self, i: int, case: Case, config: AlgorithmConfig, qhull: bool, *, fresh: bool = False
+            ) -> "PendingJob | None":
+        """Group ``i`` asks: a new job to push, or None when a queued job or a call under way answers it."""
+        from ..runner import PendingJob, Task
+
+        key = (case.case_id, config.label)
+        under_way = self._calls.get(key)
+        if under_way is not None:
+            if under_way[0] == qhull and not fresh:
+                under_way[1].append(i)
+            else:
+                self._later.setdefault(key, []).append((i, case, config, qhull, fresh))
+            return None
+        self._calls[key] = (qhull, [i])
+        self.calls += 1
+        queued = self._queued.get((case.case_id, qhull))
+        if queued is not None:
+            queued.task = Task(queued.task.index, case, queued.task.configs + (config,))
+            queued.wire = None
+            return None
+        job = PendingJob(Task(0, case, (config,)), qhull=qhull)
+        self._queued[(case.case_id, qhull)] = job
+        return job
+
+    def answer(self, row: ResultRow, timeout: float, feed: "JobFeed") -> list[tuple[int, tuple]]:
+        """The groups ``row`` answers, with its key for reuse; queues the questions that waited for it."""
+        key = (str(row["case_id"]), str(row["config"]))
+        qhull, groups = self._calls.pop(key)
+        for k, (i, case, config, other, fresh) in enumerate(self._later.pop(key, [])):
+            job = self.add(i, case, config, other, fresh=fresh)
+            if job is not None:
+                feed.push(job, priority=(-1, k))  # they waited a whole call already: first
+        return [(i, (key[0], key[1], qhull, timeout)) for i in groups]
 
 
 class _Triage:
@@ -243,22 +321,52 @@ class _Triage:
                   learn: bool = True) -> None:
         """Run every chain's waves, one after the other within a chain, all chains side by side.
 
-        Each round asks one question of every running shrink and runs them as one batch.  When the
-        last shrink of a chain's wave finishes, the chain's next wave starts in the next round, with
-        the minimal cases known by then.  Rounds are the clock: what starts when, with which budget
+        The schedule is that of rounds in lockstep: in round ``r`` every
+        running shrink asks one question; at the end of the round the shrinks
+        that got their last answer finish (in group order, each minimal case
+        learned), and a chain whose wave is then complete starts its next
+        wave, with the minimal cases known by then and the evaluations left
+        by then.  Rounds are the clock: what starts when, with which budget
         and which cases to try, depends on the answers only.
+
+        The calls do not wait for rounds, though: each answer goes back to
+        its shrink as it arrives and the next question goes to the pool at
+        once (:meth:`hullstress.runner.CallPool.stream`, earliest round
+        first), so no worker idles at the end of a round.  Only the end of a
+        round is kept in order: its finishes and wave starts are applied once
+        every question of that round (and of the rounds before) is answered,
+        exactly as in lockstep, so the result is the same whatever the
+        number of workers and the order calls end in.
         """
+        from ..runner import JobFeed
+
         known: list[_Known] = []
         position = [0] * len(chains)  # the wave each chain is at
-        running: dict[int, tuple[Shrinker, int]] = {}  # group -> (its shrink, its chain)
         waiting = [0] * len(chains)  # shrinks of the current wave still running, per chain
-        questions: dict[int, Question] = {}
+        asking: dict[int, _Asking] = {}  # group -> its shrink and the question it waits on
+        asked: Counter[int] = Counter()  # questions per round
+        ended: dict[int, list[int]] = {}  # round -> groups whose shrink got its last answer in it
+        ended_shrinks: dict[int, _Asking] = {}  # their shrinks, finished at the end of that round
+        restarts: dict[int, list[int]] = {}  # round -> chains whose wave is complete at its end
+        ready: deque[tuple[int, ResultRow]] = deque()  # answers known without a call
+        outstanding: Counter[int] = Counter()  # unanswered questions per round
+        rounds_open: list[int] = []  # a heap of the rounds with unanswered questions (some may be spent)
+        flight = _InFlight()
+        feed = JobFeed(on_take=flight.taken)
+        clock = {"round": 0}  # every round up to this one is complete and applied
 
-        def start(c: int) -> None:
+        def finish(i: int, shrinker: Shrinker) -> None:
+            results[i] = shrinker.result()
+            self.done += 1
+            if learn:
+                self._learn([i], groups, results, known)
+
+        def start(c: int, r: int) -> None:  # the end of round r: chain c starts its next wave
             while position[c] < len(chains[c]):
                 wave = chains[c][position[c]]
                 position[c] += 1
-                cap = min(cap_limit, max(0, self.budget.calls - self.used) // max(1, len(wave)))
+                used = sum(n for k, n in asked.items() if k <= r)
+                cap = min(cap_limit, max(0, self.budget.calls - used) // max(1, len(wave)))
                 for i in wave:
                     shrinker = self._shrinker(i, groups, cases, rows, known, cap, cap_limit, results)
                     if shrinker is None:
@@ -267,50 +375,103 @@ class _Triage:
                     if question is None:
                         finish(i, shrinker)
                         continue
-                    running[i] = (shrinker, c)
-                    questions[i] = question
                     waiting[c] += 1
+                    ask(i, _Asking(shrinker, c, r + 1, question))
                 if waiting[c]:
                     return
 
-        def finish(i: int, shrinker: Shrinker) -> None:
-            results[i] = shrinker.result()
-            self.done += 1
-            if learn:
-                self._learn([i], groups, results, known)
+        def ask(i: int, asking_now: _Asking) -> None:
+            asking[i] = asking_now
+            asked[asking_now.round] += 1
+            self.used += 1
+            points, needs = asking_now.question
+            case = candidate_case(points, cases[groups[i].smallest_case_id].dim)
+            config = groups[i].signature.config
+            qhull = bool(needs and self.qhull)
+            key = (case.case_id, config.label, qhull, self.timeout)
+            outstanding[asking_now.round] += 1
+            if outstanding[asking_now.round] == 1:
+                heapq.heappush(rounds_open, asking_now.round)
+            fresh = asking_now.shrinker.rerun
+            if not fresh and key in self.answers:
+                self.answers.move_to_end(key)
+                ready.append((i, self.answers[key]))
+                return
+            job = flight.add(i, case, config, qhull, fresh=fresh)
+            if job is not None:
+                feed.push(job, priority=(asking_now.round, i))
+
+        def answered(i: int, row: ResultRow) -> None:
+            now = asking[i]
+            outstanding[now.round] -= 1
+            question = now.shrinker.answer(row)
+            if question is not None:
+                ask(i, _Asking(now.shrinker, now.chain, now.round + 1, question))
+                return
+            del asking[i]
+            ended.setdefault(now.round, []).append(i)
+            ended_shrinks[i] = now
+
+        def end_round() -> bool:
+            """Apply the end of the next round if all its questions are answered; False when none can end."""
+            r = clock["round"] + 1
+            while rounds_open and outstanding[rounds_open[0]] == 0:
+                heapq.heappop(rounds_open)
+            frontier = rounds_open[0] if rounds_open else None
+            if frontier is not None and r >= frontier:
+                return False
+            if frontier is None and not ended and not restarts:
+                return False
+            clock["round"] = r
+            for i in sorted(ended.pop(r, [])):
+                now = ended_shrinks.pop(i)
+                finish(i, now.shrinker)
+                c = now.chain
+                waiting[c] -= 1
+                if waiting[c] == 0:
+                    restarts.setdefault(r, []).append(c)
+            for c in sorted(restarts.pop(r, [])):
+                start(c, r)
+            self.rounds = r
+            self._report(f"round {r}")
+            return True
+
+        def pump() -> None:
+            while True:
+                while ready:
+                    answered(*ready.popleft())
+                if not end_round():
+                    return
+
+        def on_row(row: ResultRow) -> None:
+            self._check_halt()
+            for i, key in flight.answer(row, self.timeout, feed):
+                self.answers[key] = row
+                ready.append((i, row))
+            while len(self.answers) > _ANSWERS_KEPT:
+                self.answers.popitem(last=False)
+            pump()
 
         for c in range(len(chains)):
-            start(c)
+            start(c, 0)
         try:
-            while running:
-                self._check_halt()
-                order = sorted(running)
-                answers = self.batch([(questions[i][0], cases[groups[i].smallest_case_id].dim,
-                                       groups[i].signature.config, questions[i][1]) for i in order],
-                                     reuse=[not running[i][0].rerun for i in order])
-                self.rounds += 1
-                self.used += len(order)
-                restart = []
-                for i, row in zip(order, answers):
-                    shrinker, c = running[i]
-                    question = shrinker.answer(row)
-                    if question is not None:
-                        questions[i] = question
-                        continue
-                    del running[i], questions[i]
-                    finish(i, shrinker)
-                    waiting[c] -= 1
-                    if waiting[c] == 0:
-                        restart.append(c)
-                for c in sorted(restart):
-                    start(c)
-                self._report(f"round {self.rounds}")
+            self._check_halt()
+            pump()
+            configs = [groups[i].signature.config for chain in chains for wave in chain for i in wave]
+            self.pool.stream(feed, on_row, configs=configs, timeout=self.timeout, qhull_options=self.qhull_options)
+            if asking or ended or restarts:
+                raise HullstressError(f"internal: triage stopped with {len(asking)} questions unanswered")
         except (_Halt, KeyboardInterrupt) as exc:
             # The shrinks cut short keep their best exact case so far; their note says why.
             note = exc.note if isinstance(exc, _Halt) else _INTERRUPTED
-            for i, (shrinker, _) in running.items():
-                results[i] = shrinker.stop(note)
+            for i, now in ended_shrinks.items():
+                results[i] = now.shrinker.result()
+            for i, now in asking.items():
+                results[i] = now.shrinker.stop(note)
             raise
+        finally:
+            # Questions answered by a call made for another one (earlier, or under way at the time).
+            self.reused += sum(asked.values()) - flight.calls
 
     def _shrinker(self, i: int, groups: list[FailureGroup], cases: dict[str, Case], rows: dict[int, ResultRow],
                   known: list[_Known], cap: int, cap_limit: int, results: dict[int, ShrinkResult]) -> Shrinker | None:
