@@ -286,7 +286,10 @@ def _triangle_normals(pts: np.ndarray, a: int, b: int) -> tuple[np.ndarray, np.n
     cy = e01[2] * e12[:, 0] - e01[0] * e12[:, 2]
     cz = e01[0] * e12[:, 1] - e01[1] * e12[:, 0]
     norm = np.sqrt(cx * cx + cy * cy + cz * cz)
-    nrm = np.stack([cx / norm, cy / norm, cz / norm], axis=1)
+    nrm = np.empty((len(pts), 3))
+    np.divide(cx, norm, out=nrm[:, 0])
+    np.divide(cy, norm, out=nrm[:, 1])
+    np.divide(cz, norm, out=nrm[:, 2])
     return pts - v0, nrm
 
 

@@ -262,14 +262,10 @@ def _find_face(
     q = pts - pts[b]
     ab = pts[a] - pts[b]
     # (A - B) x (C - B) for every candidate C at once.
-    cross = np.stack(
-        [
-            ab[1] * q[:, 2] - ab[2] * q[:, 1],
-            ab[2] * q[:, 0] - ab[0] * q[:, 2],
-            ab[0] * q[:, 1] - ab[1] * q[:, 0],
-        ],
-        axis=1,
-    )
+    cross = np.empty((n, 3))
+    np.subtract(ab[1] * q[:, 2], ab[2] * q[:, 1], out=cross[:, 0])
+    np.subtract(ab[2] * q[:, 0], ab[0] * q[:, 2], out=cross[:, 1])
+    np.subtract(ab[0] * q[:, 1], ab[1] * q[:, 0], out=cross[:, 2])
     off_line = (cross != 0).any(axis=1)
     off_line[[a, b]] = False
     if not off_line.any():
