@@ -222,3 +222,30 @@ def test_bad_shapes_raise():
         orient2d(np.zeros((3, 3)), np.zeros(2), np.zeros(2))
     with pytest.raises(ValueError, match="at least one"):
         orient3d_mean(np.zeros(3), np.zeros(3), np.zeros(3), [])
+
+
+@pytest.mark.parametrize("few", [0, 10**9], ids=["float-stages-first", "integers-at-once"])
+@pytest.mark.parametrize("kind", ["lattice", "near-coplanar", "coincident", "subnormal"])
+def test_every_path_through_the_stages_gives_the_exact_sign(monkeypatch, few, kind):
+    # Rows the filter leaves open go through the exactness check and double-double stages
+    # before integers, or (a few rows: FEW_FOR_INTEGERS) straight to integers.  Forced each
+    # way on the same rows, both give the exact sign whatever the row count.
+    import hullstress.checker.predicates as predicates
+
+    monkeypatch.setattr(predicates, "FEW_FOR_INTEGERS", few)
+    rng = np.random.default_rng(11)
+    k = 40
+    a, b, c = (rng.integers(-8, 9, (k, 3)) * 0.125 for _ in range(3))
+    if kind == "lattice":  # exact zeros and small integers: the exactness check decides
+        d = a + rng.integers(-2, 3, (k, 1)) * (b - a) + rng.integers(-2, 3, (k, 1)) * (c - a)
+    elif kind == "near-coplanar":  # a few ulps off the plane: the double-double stage decides
+        a, b, c = (rng.random((k, 3)) for _ in range(3))
+        d = a + rng.random((k, 1)) * (b - a) + rng.random((k, 1)) * (c - a)
+        d = d + rng.integers(-2, 3, d.shape) * np.spacing(d)
+    elif kind == "coincident":  # two equal points: zero without any stage
+        d = b.copy()
+    else:  # subnormal differences: integers decide
+        a, b, c = (rng.integers(-8, 9, (k, 3)) * 5e-324 for _ in range(3))
+        d = a + rng.integers(-1, 2, (k, 3)) * 5e-324
+    assert np.array_equal(orient3d(a, b, c, d), ref3(a, b, c, d))
+    assert np.array_equal(orient2d(a[:, :2], b[:, :2], d[:, :2]), ref2(a[:, :2], b[:, :2], d[:, :2]))
