@@ -40,6 +40,7 @@ already written (``results.partial.csv`` included) and sets
 
 from __future__ import annotations
 
+import os
 import signal
 import threading
 import time
@@ -96,6 +97,12 @@ class RunOptions:
         ``out``; ``--failed-first``: run their cases first.
     executor : Executor or None
         The execute stage when it is not the sweep (``hullstress search``).
+    yield_cpu : bool
+        Once the fork server of the worker processes runs, lower this
+        process's CPU priority (``nice`` +10; workers keep theirs): it only
+        feeds the workers and collects their rows, so with as many workers as
+        cores it takes a core only when they leave one free.  The command line
+        sets it; a library caller (the pytest plug-in, a script) keeps its priority.
     """
 
     sweep: SweepOptions = field(default_factory=SweepOptions)
@@ -110,6 +117,7 @@ class RunOptions:
     registration: tuple[str, ...] = ()
     last_failed: str | None = None
     executor: "Executor | None" = None
+    yield_cpu: bool = False
 
 
 @dataclass(frozen=True)
@@ -346,6 +354,22 @@ def _check_output_folders(options: RunOptions) -> None:
         writable_folder(junit.parent, "--junit")
 
 
+#: How much this process lowers its priority under ``RunOptions.yield_cpu``.
+YIELD_NICENESS = 10
+
+
+def _yield_cpu() -> None:
+    """``nice`` this process by :data:`YIELD_NICENESS` (workers forked from the running fork server keep theirs).
+
+    Measured on 2 cores, the quick sweep with 2 workers: 9.3-9.5 s -> 8.9 s.
+    Where the platform has no ``nice`` or refuses it, nothing changes.
+    """
+    try:
+        os.nice(YIELD_NICENESS)
+    except (AttributeError, OSError):
+        pass
+
+
 def run(
     options: RunOptions,
     *,
@@ -394,6 +418,8 @@ def run(
         # and hullstress (about half a second) in its own process while this one builds the cases,
         # instead of while the sweep's first workers wait for it.
         start_method()
+        if options.yield_cpu:
+            _yield_cpu()
     baseline = load_baseline(options.baseline) if options.baseline else None  # fails before the sweep
     the_plan = plan(sweep, out=options.out, last_failed=options.last_failed)
     _check_output_folders(options)

@@ -167,3 +167,47 @@ def test_default_quick_profile_runs_under_a_minute(tmp_path):
     assert res.returncode in (0, 1), res.stderr
     meta = json.loads((_run_dir(res.stdout) / "run.json").read_text())
     assert meta["calls"] >= 200 and meta["timings"]["wall_seconds"] < 60
+
+
+NICE_PROBE = textwrap.dedent(
+    '''
+    """Reports the niceness of the process it runs in (tests/test_cli_run.py)."""
+    import atexit
+    import os
+
+    from hullstress import register_algorithm
+
+    # The command's own process imports this file too: at its exit, its niceness.
+    atexit.register(lambda: open(os.environ["NICE_PROBE_LOG"], "a").write(f"{os.getpid()} {os.nice(0)}\\n"))
+
+
+    @register_algorithm("test-nice-probe", dim=2)
+    def probe(points):
+        raise ValueError(f"niceness {os.nice(0)}")
+    '''
+)
+
+
+@pytest.mark.skipif(not hasattr(__import__("os"), "nice"), reason="the platform has no nice()")
+def test_the_command_line_yields_the_cpu_to_its_workers_which_keep_their_priority(tmp_path):
+    # `run` lowers its own priority by YIELD_NICENESS once the fork server runs; the workers,
+    # forked from it, keep the priority the command started with.
+    import os
+
+    from hullstress.pipeline import YIELD_NICENESS
+
+    plugin = tmp_path / "nice_probe.py"
+    plugin.write_text(NICE_PROBE)
+    start = os.nice(0)
+    log = tmp_path / "niceness.log"
+    command = subprocess.Popen([PY, "-m", "hullstress", "run", "--plugin", str(plugin), "--algorithm",
+                                "test-nice-probe", "--generator", "uniform", "--sizes", "8", "--no-shrink",
+                                "--workers", "1", "--out", str(tmp_path / "out"), "--quiet"],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                               env={**os.environ, "NICE_PROBE_LOG": str(log)})
+    _, err = command.communicate(timeout=300)
+    assert command.returncode == 1, err[-2000:]  # the probe raises: an error row, failures found
+    (run_dir,) = (tmp_path / "out").iterdir()
+    assert set(pd.read_csv(run_dir / "results.csv")["reason"]) == {f"ValueError: niceness {start}"}
+    exits = dict(line.split() for line in log.read_text().splitlines())
+    assert exits[str(command.pid)] == str(min(19, start + YIELD_NICENESS))

@@ -188,6 +188,9 @@ def console_main() -> NoReturn:
     """
     import atexit
 
+    from ._common import PROCESS
+
+    PROCESS.owned = True
     code = main()
     for stream in (sys.stdout, sys.stderr):
         try:

@@ -13,7 +13,22 @@ import argparse
 import math
 from collections.abc import Callable
 
-__all__ = ["add_registration_options", "load_registrations", "seconds", "mebibytes", "count", "registration_args"]
+__all__ = ["add_registration_options", "load_registrations", "seconds", "mebibytes", "count", "registration_args",
+           "PROCESS"]
+
+
+class _Process:
+    """Whether the command line owns this process (the ``hullstress`` program, ``python -m hullstress``).
+
+    Only then does ``run`` lower the process's CPU priority for its workers
+    (:attr:`hullstress.pipeline.RunOptions.yield_cpu`); :func:`hullstress.cli.main`
+    called from other code (a test, a script) leaves its caller's priority alone.
+    """
+
+    owned = False
+
+
+PROCESS = _Process()
 
 
 def _finite(text: str) -> float:

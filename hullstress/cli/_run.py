@@ -11,7 +11,7 @@ from ..config import EPS_CHOICES, SPHERE_CHOICES
 from ..errors import UsageError
 from ..options import DEFAULTS, PROFILES
 from . import EXIT_NO_WORK, EXIT_STATUS_HELP
-from ._common import add_registration_options, count, mebibytes, registration_args, seconds
+from ._common import PROCESS, add_registration_options, count, mebibytes, registration_args, seconds
 from ..records import Status
 
 __all__ = ["add_parser", "run_command", "parse_sizes"]
@@ -159,6 +159,7 @@ def run_command(args: argparse.Namespace) -> int:
         save_corpus=args.save_corpus, plugins=tuple(args.plugin), registration=registration_args(args),
         last_failed="only" if args.last_failed else "first" if args.failed_first else None,
         arguments={k: v for k, v in vars(args).items() if k != "handler"},
+        yield_cpu=PROCESS.owned,
     )
     echo = None if args.quiet else (lambda line: print(line, file=sys.stderr, flush=True))
     the_run = run(options, echo=echo, progress=progress_enabled(sys.stderr, quiet=args.quiet))
