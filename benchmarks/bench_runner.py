@@ -18,8 +18,10 @@ seconds move with it, the speed-ups much less.
 The sweep (cases x configs) is built once from the profile and the filters,
 then executed with each worker count in turn, in the same process.  The fork
 server that starts workers is warmed up first (its one-off start, reported
-separately, would otherwise be charged to whichever run comes first).  For
-each worker count the best wall time of ``--repeat`` runs is kept.
+separately, would otherwise be charged to whichever run comes first); then
+this process lowers its priority as ``python -m hullstress run`` does (its
+workers keep theirs).  For each worker count the best wall time of
+``--repeat`` runs is kept.
 
 Columns:
 
@@ -49,6 +51,7 @@ import tempfile
 import time
 from pathlib import Path
 
+from hullstress.pipeline import yield_cpu_to_workers
 from hullstress.plugins import load_plugin
 from hullstress.results import ResultRow
 from hullstress.runner import ExecutionStats, RunnerOptions, Task, execute
@@ -106,10 +109,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--no-end-to-end", action="store_true", help="skip the end-to-end measurement")
     args = parser.parse_args(argv)
     print(f"load average before: {load_average()}\n")
-    if not args.no_sweep:
-        _sweep_table(args)
+    # End to end first: the sweep table lowers this process's priority, which the commands would inherit.
     if not args.no_end_to_end:
         _end_to_end_table(args)
+    if not args.no_sweep:
+        _sweep_table(args)
     print(f"load average after: {load_average()}")
     return 0
 
@@ -156,6 +160,9 @@ def _sweep_table(args: argparse.Namespace) -> None:
     if not tasks:
         raise SystemExit("nothing to run: no registered algorithm matches the generated cases")
     warm = _warm_up(tasks)
+    # As `python -m hullstress run` does once its fork server runs: this process, which only feeds
+    # the workers, yields the cores to them (they are forked from the fork server and keep theirs).
+    yield_cpu_to_workers()
     base = sweep.runner_options()
 
     results: list[tuple[int, ExecutionStats, int, float]] = []

@@ -59,7 +59,8 @@ from .runner import ExecutionStats, Task
 from .qhull_format import check_qhull_options
 from .sweep import SweepOptions, build_tasks, run_sweep, sort_table
 
-__all__ = ["RunOptions", "Run", "Interrupted", "Plan", "plan", "run", "EXIT_FOR_SIGNAL", "Executor"]
+__all__ = ["RunOptions", "Run", "Interrupted", "Plan", "plan", "run", "EXIT_FOR_SIGNAL", "Executor", "YIELD_NICENESS",
+           "yield_cpu_to_workers"]
 
 #: Exit status after an interrupt, by signal (the shell's 128 + signal number).
 EXIT_FOR_SIGNAL = {signal.SIGINT: int(ExitStatus.SIGINT), signal.SIGTERM: int(ExitStatus.SIGTERM)}
@@ -358,7 +359,7 @@ def _check_output_folders(options: RunOptions) -> None:
 YIELD_NICENESS = 10
 
 
-def _yield_cpu() -> None:
+def yield_cpu_to_workers() -> None:
     """``nice`` this process by :data:`YIELD_NICENESS` (workers forked from the running fork server keep theirs).
 
     Measured on 2 cores, the quick sweep with 2 workers: 9.3-9.5 s -> 8.9 s.
@@ -419,7 +420,7 @@ def run(
         # instead of while the sweep's first workers wait for it.
         start_method()
         if options.yield_cpu:
-            _yield_cpu()
+            yield_cpu_to_workers()
     baseline = load_baseline(options.baseline) if options.baseline else None  # fails before the sweep
     the_plan = plan(sweep, out=options.out, last_failed=options.last_failed)
     _check_output_folders(options)
