@@ -87,8 +87,9 @@ class Case:
     def n_points(self) -> int:
         return int(self.points.shape[0]) if self.points.ndim >= 1 else 0
 
-    @property
+    @cached_property
     def params_json(self) -> str:
+        """The parameters as canonical JSON (computed once: every row of the case carries it)."""
         return canonical_params(self.params)
 
     @cached_property
