@@ -302,9 +302,9 @@ def test_the_shrinks_and_causes_do_not_depend_on_the_order_calls_end_in():
 
 def test_questions_in_flight_share_calls_merge_queued_jobs_and_reruns_get_their_own():
     from hullstress.runner import JobFeed
-    from hullstress.triage.stage import _InFlight
+    from hullstress.triage.inflight import InFlight
 
-    flight = _InFlight()
+    flight = InFlight()
     feed = JobFeed(on_take=flight.taken)
     square = Case.from_points([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]], family="shrink")
     a, b = AlgorithmConfig("monotone-chain", eps="scaled"), AlgorithmConfig("monotone-chain", eps="fixed")

@@ -55,7 +55,6 @@ import heapq
 import time
 from collections import Counter, OrderedDict, deque
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
@@ -66,19 +65,17 @@ from ..errors import HullstressError
 from ..options import DEFAULTS, TriageBudget
 from ..results import ResultRow
 from .canonical import canonical_key
+from .inflight import Asking, InFlight
 from .evidence import output_faces, storage_kind, verify_from_storage
 from .grouping import FailureGroup, group_failures
 from .oracle import DEFAULT_TIMEOUT
 from ..records import Status
 from .records import Cause, ShrinkResult, TriageRecord, TriageResult
-from .shrink import Question, Shrinker, candidate_case
+from .shrink import Shrinker, candidate_case
 from .signature import Signature, signature_of
+from .waves import TRIES, Known, plan_chains, ranked, remember
 
 __all__ = ["TriageRecord", "TriageResult", "triage_failures", "triage_one", "plan_chains", "TRIES", "Progress"]
-
-#: Known minimal cases a group tries before shrinking its own case (one evaluation each): found for
-#: groups of its own kind of failure, and for groups of other kinds.
-TRIES = (2, 1)
 
 #: Answers of earlier calls kept for reuse (about 7 KB each; a quick run makes about 6000 calls).
 _ANSWERS_KEPT = 20_000
@@ -95,17 +92,6 @@ class _Halt(Exception):
     def __init__(self, note: str, *, interrupted: bool) -> None:
         super().__init__(note)
         self.note, self.interrupted = note, interrupted
-
-
-@dataclass
-class _Known:
-    """A minimal case found so far, and the groups it was found for (first one first)."""
-
-    points: np.ndarray
-    dim: int
-    key: str
-    slug: str
-    signatures: list[Signature]
 
 
 def _unshrunk(case: Case, signature: Signature, row: ResultRow | None, note: str) -> ShrinkResult:
@@ -140,77 +126,6 @@ def triage_one(result: ShrinkResult, config: AlgorithmConfig, *, group: FailureG
     verified = verify_from_storage(result.case, kind, config, sig, timeout) if verify else None
     return TriageRecord(signature=sig, config=config, group=group, shrink=result, faces=faces,
                         faces_note=note, storage=kind, verified=verified)
-
-
-@dataclass
-class _Asking:
-    """A running shrink, its chain, and the question it waits on, asked in round ``round``."""
-
-    shrinker: Shrinker
-    chain: int
-    round: int
-    question: Question
-
-
-class _InFlight:
-    """The calls under way or queued, each once, and which groups wait on each.
-
-    A question is a case and a config, judged with or without the Qhull
-    reference.  Shrinks asking the same question share one call (unless one
-    of them re-runs a case on purpose: that is always a call of its own).
-    Questions about one case judged the same way go to the pool as one job
-    while it is still queued, so the case facts are computed once for all
-    of them.  A question about a case and config under way the other way
-    (with the reference, say, while it runs without), or re-run on purpose,
-    waits for that call to end: every row is then told apart by its case
-    and config.
-    """
-
-    def __init__(self) -> None:
-        self._calls: dict[tuple[str, str], tuple[bool, list[int]]] = {}
-        self._later: dict[tuple[str, str], list[tuple[int, Case, AlgorithmConfig, bool, bool]]] = {}
-        self._queued: dict[tuple[str, bool], "PendingJob"] = {}  # jobs not taken by the pool yet
-        self.calls = 0
-
-    def taken(self, job: "PendingJob") -> None:
-        """The pool took ``job`` out of the feed: it no longer takes more configs."""
-        key = (job.task.case.case_id, bool(job.qhull))
-        if self._queued.get(key) is job:
-            del self._queued[key]
-
-    def add(self, i: int, case: Case, config: AlgorithmConfig, qhull: bool, *, fresh: bool = False
-            ) -> "PendingJob | None":
-        """Group ``i`` asks: a new job to push, or None when a queued job or a call under way answers it."""
-        from ..runner import PendingJob, Task
-
-        key = (case.case_id, config.label)
-        under_way = self._calls.get(key)
-        if under_way is not None:
-            if under_way[0] == qhull and not fresh:
-                under_way[1].append(i)
-            else:
-                self._later.setdefault(key, []).append((i, case, config, qhull, fresh))
-            return None
-        self._calls[key] = (qhull, [i])
-        self.calls += 1
-        queued = self._queued.get((case.case_id, qhull))
-        if queued is not None:
-            queued.task = Task(queued.task.index, case, queued.task.configs + (config,))
-            queued.wire = None
-            return None
-        job = PendingJob(Task(0, case, (config,)), qhull=qhull)
-        self._queued[(case.case_id, qhull)] = job
-        return job
-
-    def answer(self, row: ResultRow, timeout: float, feed: "JobFeed") -> list[tuple[int, tuple]]:
-        """The groups ``row`` answers, with its key for reuse; queues the questions that waited for it."""
-        key = (str(row["case_id"]), str(row["config"]))
-        qhull, groups = self._calls.pop(key)
-        for k, (i, case, config, other, fresh) in enumerate(self._later.pop(key, [])):
-            job = self.add(i, case, config, other, fresh=fresh)
-            if job is not None:
-                feed.push(job, priority=(-1, k))  # they waited a whole call already: first
-        return [(i, (key[0], key[1], qhull, timeout)) for i in groups]
 
 
 class _Triage:
@@ -340,18 +255,18 @@ class _Triage:
         """
         from ..runner import JobFeed
 
-        known: list[_Known] = []
+        known: list[Known] = []
         position = [0] * len(chains)  # the wave each chain is at
         waiting = [0] * len(chains)  # shrinks of the current wave still running, per chain
-        asking: dict[int, _Asking] = {}  # group -> its shrink and the question it waits on
+        asking: dict[int, Asking] = {}  # group -> its shrink and the question it waits on
         asked: Counter[int] = Counter()  # questions per round
         ended: dict[int, list[int]] = {}  # round -> groups whose shrink got its last answer in it
-        ended_shrinks: dict[int, _Asking] = {}  # their shrinks, finished at the end of that round
+        ended_shrinks: dict[int, Asking] = {}  # their shrinks, finished at the end of that round
         restarts: dict[int, list[int]] = {}  # round -> chains whose wave is complete at its end
         ready: deque[tuple[int, ResultRow]] = deque()  # answers known without a call
         outstanding: Counter[int] = Counter()  # unanswered questions per round
         rounds_open: list[int] = []  # a heap of the rounds with unanswered questions (some may be spent)
-        flight = _InFlight()
+        flight = InFlight()
         feed = JobFeed(on_take=flight.taken)
         clock = {"round": 0}  # every round up to this one is complete and applied
 
@@ -359,7 +274,7 @@ class _Triage:
             results[i] = shrinker.result()
             self.done += 1
             if learn:
-                self._learn([i], groups, results, known)
+                remember([i], groups, results, known)
 
         def start(c: int, r: int) -> None:  # the end of round r: chain c starts its next wave
             while position[c] < len(chains[c]):
@@ -376,11 +291,11 @@ class _Triage:
                         finish(i, shrinker)
                         continue
                     waiting[c] += 1
-                    ask(i, _Asking(shrinker, c, r + 1, question))
+                    ask(i, Asking(shrinker, c, r + 1, question))
                 if waiting[c]:
                     return
 
-        def ask(i: int, asking_now: _Asking) -> None:
+        def ask(i: int, asking_now: Asking) -> None:
             asking[i] = asking_now
             asked[asking_now.round] += 1
             self.used += 1
@@ -406,7 +321,7 @@ class _Triage:
             outstanding[now.round] -= 1
             question = now.shrinker.answer(row)
             if question is not None:
-                ask(i, _Asking(now.shrinker, now.chain, now.round + 1, question))
+                ask(i, Asking(now.shrinker, now.chain, now.round + 1, question))
                 return
             del asking[i]
             ended.setdefault(now.round, []).append(i)
@@ -474,7 +389,7 @@ class _Triage:
             self.reused += sum(asked.values()) - flight.calls
 
     def _shrinker(self, i: int, groups: list[FailureGroup], cases: dict[str, Case], rows: dict[int, ResultRow],
-                  known: list[_Known], cap: int, cap_limit: int, results: dict[int, ShrinkResult]) -> Shrinker | None:
+                  known: list[Known], cap: int, cap_limit: int, results: dict[int, ShrinkResult]) -> Shrinker | None:
         """Group ``i``'s shrink, trying the known minimal cases first; None (and an unshrunk result) without budget."""
         g, case = groups[i], cases[groups[i].smallest_case_id]
         if cap < 1:
@@ -484,84 +399,9 @@ class _Triage:
             results[i] = _unshrunk(case, g.signature, rows.get(i), f"not shrunk: {why}")
             self.done += 1
             return None
-        tries = [(k.points, f"the minimal case of {k.slug}") for k in _ranked(known, g, case.dim)]
+        tries = [(k.points, f"the minimal case of {k.slug}") for k in ranked(known, g, case.dim)]
         return Shrinker(case, g.signature, max_calls=cap, candidates=tries, qhull=self.qhull, row=rows.get(i),
                         simplify_calls=self.budget.simplify_calls)
-
-    @staticmethod
-    def _learn(members: list[int], groups: list[FailureGroup], results: dict[int, ShrinkResult],
-               known: list[_Known]) -> None:
-        """Remember minimal cases (one per input, up to exact transforms, with every group's signature)."""
-        seen = {k.key: k for k in known}
-        for i in members:
-            res = results.get(i)
-            if res is None or not res.reproduced:
-                continue
-            pts = np.asarray(res.case.points)
-            key = canonical_key(pts)
-            if key in seen:
-                seen[key].signatures.append(groups[i].signature)
-            else:
-                seen[key] = _Known(points=pts, dim=res.case.dim, key=key, slug=groups[i].slug,
-                                   signatures=[groups[i].signature])
-                known.append(seen[key])
-
-
-def _kind(signature: Signature) -> tuple[str, ...]:
-    """How a group fails, whatever the config: groups of one kind often share a minimal case."""
-    return (signature.stage, signature.status, signature.checks, signature.severity, signature.error)
-
-
-def plan_chains(groups: Sequence[FailureGroup]) -> list[list[list[int]]]:
-    """Positions of ``groups`` in chains of waves: one chain per kind, in waves of 1, 1, 2, 4, 8 ... groups.
-
-    A kind is the dimension and the failure without the config (stage,
-    status, checks, severity, exception type).  Within a chain, a wave starts
-    when the previous one has finished, so that its groups can start from the
-    minimal cases found first; the doubling keeps chains short.  Chains come
-    in the order of their first group; depends on the groups alone: five
-    groups of one kind and one of another make the chains [[0], [1], [2, 3],
-    [4]] and [[5]].
-    """
-    by_kind: dict[tuple, list[int]] = {}
-    for i, g in enumerate(groups):
-        by_kind.setdefault((g.dim, *_kind(g.signature)), []).append(i)
-    chains = []
-    for positions in by_kind.values():
-        chain, taken, size = [], 0, 1
-        while taken < len(positions):
-            chain.append(positions[taken:taken + size])
-            taken += size
-            if len(chain) >= 2:
-                size *= 2
-        chains.append(chain)
-    return chains
-
-
-def _ranked(known: list[_Known], group: FailureGroup, dim: int) -> list[_Known]:
-    """The known minimal cases worth trying for ``group``, best first (see :data:`TRIES`).
-
-    First cases of the same dimension found for groups of the same kind:
-    those of the same sphere and eps variant first, then of the same
-    algorithm, then the smallest.  Then cases found only for other kinds:
-    those that already stand for the most groups first (an input that breaks
-    many configs tends to break more), then the same sphere variant, then
-    the smallest.  Ties in the order they were found.
-    """
-    sig = group.signature
-    kind = _kind(sig)
-
-    def closeness(k: _Known) -> tuple:
-        return min((s.sphere != sig.sphere, s.eps != sig.eps, s.algorithm != sig.algorithm)
-                   for s in k.signatures if _kind(s) == kind)
-
-    same = [k for k in known if k.dim == dim and any(_kind(s) == kind for s in k.signatures)]
-    same.sort(key=lambda k: (*closeness(k), len(k.points)))
-    other = [k for k in known if k.dim == dim and all(_kind(s) != kind for s in k.signatures)]
-    other.sort(key=lambda k: (-len(k.signatures), all(s.sphere != sig.sphere for s in k.signatures),
-                              len(k.points)))
-    return same[:TRIES[0]] + other[:TRIES[1]]
-
 
 def triage_failures(
     table: pd.DataFrame,
