@@ -85,3 +85,19 @@ def test_volume_of_a_certificate():
     sq = np.array([[0.0, 0], [2, 0], [2, 2], [0, 2]])
     assert _cert(dim=2, measure=surface_measure(sq, np.arange(4))).volume == 4.0
     assert _cert(dim=2, measure=surface_measure(sq, np.arange(4)[::-1])).volume == -4.0
+
+
+def test_a_ring_of_sharp_edges_at_obtuse_angles_and_points_along_it():
+    # A hexagon of sharp edges (120 degrees at each corner: the two edges point to opposite
+    # sides along one axis, yet are not collinear), each side split by a midpoint (collinear,
+    # on either side), all in one call with a same-side collinear pair elsewhere, at
+    # negative coordinates (the directions from a vertex, not its position, decide).
+    hexagon = np.array([[2.0, 0, 0], [1, 2, 0], [-1, 2, 0], [-2, 0, 0], [-1, -2, 0], [1, -2, 0]]) - [10.0, 10.0, 10.0]
+    mids = (hexagon + np.roll(hexagon, -1, axis=0)) / 2
+    spike = np.array([[-30.0, -30, -30], [-31, -30, -30], [-32, -30, -30]])  # 12 -> 13 and 12 -> 14: same side
+    segment = np.array([[-5.0, 0, 0], [-6, 0, 0], [-4, 0, 0]])  # 15 between 16 and 17
+    pts = np.r_[hexagon, mids, spike, segment]
+    sharp = [(i, 6 + i) for i in range(6)] + [(6 + i, (i + 1) % 6) for i in range(6)] + [(12, 13), (12, 14), (16, 15), (15, 17)]
+    got = corners3(pts, np.arange(18), np.array(sharp))
+    assert got.tolist() == [0, 1, 2, 3, 4, 5, 12, 13, 14, 16, 17]
+    assert corners3(pts, np.arange(6, 12), np.array(sharp)).tolist() == []

@@ -172,7 +172,7 @@ def test_an_empty_surface_measures_zero(dim):
         m = surface_measure(np.zeros((4, 3)), FaceSet(np.zeros(0, np.int64), np.zeros(1, np.int64)))
     assert (m.estimate, m.error) == (0.0, 0.0)
     assert m.sign == 0 and m.exact_sum() == 0 and m.value() == 0.0
-    assert m.denominator == (6 if dim == 3 else 2)
+    assert m.dim == dim and m.denominator == (6 if dim == 3 else 2)
 
 
 def test_a_sliver_takes_its_sign_and_value_from_the_exact_sum():
@@ -303,6 +303,20 @@ def test_rotated_to_lowest_triangles(offset):
     assert got == [list(_smallest_rotation(t)) for t in tri.tolist()]
     already = FaceSet.from_triangles([[1, 5, 3], [2, 4, 9]])
     assert rotated_to_lowest(already) is already  # already so: returned as it is
+    # Every face starts below its second vertex, not every one below its third.
+    got = rotated_to_lowest(FaceSet.from_triangles(np.array([[1, 5, 0], [2, 3, 4]]) + offset)).to_python()
+    assert got == (np.array([[0, 1, 5], [2, 3, 4]]) + offset).tolist()
+
+
+@pytest.mark.parametrize("top", [9, 2**21 - 2])
+def test_rotated_to_lowest_of_a_triangle_repeating_its_lowest_index(top):
+    # (X, Y, X) starts at the occurrence giving the smallest sequence, (X, X, Y), whether or
+    # not the other faces start at their lowest index already.  (Indices below 2**21 - 1:
+    # through the integer keys; see the report for the comparison path above.)
+    base = top - 9
+    tri = np.array([[3, 8, 3], [1, 2, 9]]) + base
+    got = rotated_to_lowest(FaceSet.from_triangles(tri)).to_python()
+    assert got == [[3 + base, 3 + base, 8 + base], [1 + base, 2 + base, 9 + base]]
 
 
 def test_rotated_to_lowest_polygons():
@@ -324,3 +338,37 @@ def test_volume_is_the_same_for_every_listing_of_a_mixed_surface():
             listed = [rolled[i] for i in order] + rolled[3:]
             m = surface_measure(pts, FaceSet.from_polygons(listed))
             assert m.exact_sum() == 6 * want and m.value() == float(want)
+
+
+def test_compare_does_not_trust_equal_estimates_with_wide_bounds():
+    # A sliver whose float estimate (-2) is off its exact value (-1.49...) against a
+    # triangle whose estimate -2 is exact: the floats agree exactly, the exact areas differ
+    # by about 0.25; in either order only the exact values may decide.
+    p = np.array([[1e8 + 0.1, 1e8 + 0.3], [3e8 + 0.7, 3e8 + 0.9], [2e8 + 0.4, 2e8 + 0.6]])
+    sliver = surface_measure(p, np.array([0, 1, 2]))
+    exact_triangle = surface_measure(np.array([[0.0, 0], [2, 0], [0, 1]]), np.array([0, 2, 1]))
+    assert sliver.estimate == exact_triangle.estimate == -2.0 and exact_triangle.exact_sum() == -2
+    gap = abs(exact_area(p, [0, 1, 2]) + 1)
+    assert Fraction(1, 5) < gap < Fraction(3, 10)
+    for a, b in ((sliver, exact_triangle), (exact_triangle, sliver)):
+        assert compare(a, b, Fraction(1, 10)) == (False, gap)
+        assert compare(a, b, Fraction(3, 10)) == (True, gap)
+
+
+def test_compare_where_the_float_difference_overflows():
+    # A square of area about 5.4e307 and the same square clockwise: each estimate is finite
+    # (twice the area, 1.1e308), their difference is beyond the doubles (silently: warnings
+    # are errors here); the exact values decide.
+    side = 1.1 * 2.0**511
+    sq = np.array([[0.0, 0], [side, 0], [side, side], [0, side]])
+    ccw, cw = surface_measure(sq, np.arange(4)), surface_measure(sq, np.arange(4)[::-1])
+    assert math.isfinite(ccw.estimate) and ccw.estimate == -cw.estimate and math.isinf(ccw.estimate - cw.estimate)
+    area = Fraction(side) ** 2
+    assert compare(ccw, cw, 2 * area) == (True, 2 * area)
+    assert compare(ccw, cw, area) == (False, 2 * area)
+
+
+def test_perimeter_of_a_quadrilateral_is_the_sum_of_its_sides():
+    # Sides 5, 5, 5, 5 of a rhombus; its diagonals (8 and 6) must not enter.
+    rhombus = np.array([[0.0, 0], [4, 3], [8, 0], [4, -3]])
+    assert surface_area(rhombus, np.array([0, 3, 2, 1])) == 20.0

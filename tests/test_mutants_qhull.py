@@ -12,17 +12,20 @@ from __future__ import annotations
 
 import math
 from fractions import Fraction
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
 from scipy.spatial import QhullError
 
+from hullstress.checker import qhull as qhull_module
 from hullstress.checker._geometry import Interior, distround
 from hullstress.checker.qhull import (
     DEFAULT_OPTIONS,
     REPAIR_OPTIONS,
     RETRY_OPTIONS,
     _first_line,
+    _oriented_faces,
     _unscale,
     certified_extremes,
     face_set_key,
@@ -166,7 +169,7 @@ def test_a_duplicated_corner_is_one_extreme_point():
 # --------------------------------------------------------------------------- face_set_key
 
 
-@pytest.mark.parametrize("n", [9, 2**21, 2**22 + 5])
+@pytest.mark.parametrize("n", [9, 100, 2**21 - 1, 2**21, 2**22 + 5])
 def test_face_set_key_is_canonical(n):
     base = n - 9  # indices near n: both the one-integer keys and the rows above 2**21
     tri = (np.array(_CUBE_TRIANGLES) + base).tolist()
@@ -335,3 +338,75 @@ def test_certified_extremes_past_a_failing_option_set():
         ConvexHull(pts)
     assert certified_extremes(pts, np.arange(4), interior).tolist() == [0, 1, 2, 3]
     assert certified_extremes(pts, np.arange(4), interior, options=("",)) is None
+
+
+# --------------------------------------------------------------------------- _oriented_faces
+
+
+def _fake_hull(simplices, equations) -> SimpleNamespace:
+    """What _oriented_faces reads of a scipy ConvexHull: the triangles and Qhull's facet planes."""
+    return SimpleNamespace(simplices=np.array(simplices), equations=np.c_[np.array(equations, dtype=np.float64), np.zeros(len(equations))])
+
+
+_TETRA_OUTWARD = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]  # counter-clockwise seen from outside
+_TETRA_MIXED = [[0, 1, 2], [0, 1, 3], [0, 2, 3], [1, 2, 3]]  # the first and the third clockwise
+
+
+def test_oriented_faces_follow_qhull_normals_where_they_are_clear():
+    pts = _TETRA[:4]
+    assert [_outward(pts, t, _TETRA[4]) for t in _TETRA_OUTWARD + _TETRA_MIXED] == [True] * 4 + [False, True, False, True]
+    outward = [[0, 0, -1], [0, -1, 0], [-1, 0, 0], [3**-0.5] * 3]
+    asked = []
+    got = _oriented_faces(pts, _fake_hull(_TETRA_MIXED, outward), lambda: asked.append(1))
+    assert got.tolist() == _TETRA_OUTWARD and got.dtype == np.int64
+    assert not asked  # the interior point is asked for only where the normals leave it open
+
+
+def test_oriented_faces_ask_the_exact_interior_point_where_qhull_normals_are_unsure():
+    # Normals perpendicular to the faces (or nearly: 1e-9 of the face normal) say nothing;
+    # the exact side of the interior point orients those faces.
+    pts = _TETRA[:4]
+    sideways = [[1, 0, 1e-9], [1, 0, 1e-9], [0, 1, 0], [1, -1, 0]]
+    interior = Interior.from_simplex(pts)
+    asked = []
+
+    def lazy():
+        asked.append(1)
+        return interior
+
+    got = _oriented_faces(pts, _fake_hull(_TETRA_MIXED, sideways), lazy)
+    assert got.tolist() == _TETRA_OUTWARD and len(asked) == 1
+    assert _oriented_faces(pts, _fake_hull(_TETRA_MIXED, sideways), interior).tolist() == _TETRA_OUTWARD
+    # Without an interior point the unsure faces keep the float test's (here: no) flip.
+    assert _oriented_faces(pts, _fake_hull(_TETRA_MIXED, sideways), None).tolist() == _TETRA_MIXED
+    # A clear normal wins over the interior point; only the unsure faces are asked about.
+    clear_wrong = [[0, 0, 1], [1, 0, 1e-9], [0, 1, 0], [1, -1, 0]]  # face 0 "faces up" by Qhull's word
+    got = _oriented_faces(pts, _fake_hull(_TETRA_MIXED, clear_wrong), interior)
+    assert got.tolist() == [[0, 1, 2], [0, 1, 3], [0, 3, 2], [1, 2, 3]]
+
+
+def _normals_turned_sideways(monkeypatch):
+    """Make every Qhull facet normal perpendicular to its facet (Qhull's triangles kept): the
+    float orientation test can then decide nothing, the exact interior point must."""
+    real = qhull_module.ConvexHull
+
+    def sideways(points, qhull_options=None):
+        hull = real(points, qhull_options=qhull_options)
+        n = hull.equations[:, :3]
+        perp = np.cross(n, [0.6, 0.8, 0.0])
+        return SimpleNamespace(simplices=hull.simplices, equations=np.c_[perp, hull.equations[:, 3]])
+
+    monkeypatch.setattr(qhull_module, "ConvexHull", sideways)
+
+
+def test_the_exact_interior_point_orients_what_qhull_normals_leave_open(monkeypatch):
+    _normals_turned_sideways(monkeypatch)
+    interior = Interior.from_simplex(_TETRA[:4])
+    assert certified_extremes(_TETRA, np.arange(5), interior).tolist() == [0, 1, 2, 3]
+    ref = qhull_reference(_TETRA)
+    assert ref.qhull_ok is True and ref.extreme.tolist() == [0, 1, 2, 3]
+    assert all(_outward(_TETRA, t, _TETRA[4]) for t in ref.faces.to_python())
+    # The repair after a wrong Qhull hull (see above) orients its faces the same way.
+    pts = np.r_[_CUBE / 2, [[0.5, 0.5, 1 + 2.0**-52]]]
+    ref = qhull_reference(pts)
+    assert ref.qhull_ok is False and ref.extreme.tolist() == list(range(9))

@@ -306,6 +306,7 @@ def test_ray_point_is_fixed_per_seed_off_the_origin_and_at_the_input_scale():
         assert q.shape == (3,) and np.array_equal(q, ray_point(origin, 8.0, seed))
         assert not np.array_equal(q, origin)
         assert np.abs(q - origin).max() <= 8.0  # a sixteenth of the extent per unit of direction
+        assert len(set((q - origin).tolist())) == 3  # a random direction, not along a diagonal
     assert not np.array_equal(ray_point(origin, 8.0, 0), ray_point(origin, 8.0, 1))
     assert ray_point(np.zeros(2), 1.0, 0).shape == (2,)
 
