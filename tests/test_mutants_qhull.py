@@ -139,6 +139,7 @@ def test_reference_of_a_polygon_is_its_counter_clockwise_cycle():
     assert ref.qhull_ok is True and ref.volume == 16.0 and ref.affine_rank == 2
     cycle = ref.faces.tolist()
     assert sorted(cycle) == [0, 1, 2, 3] and np.array_equal(ref.vertices, ref.faces) and ref.vertices is not ref.faces
+    assert ref.vertices.dtype == np.int64 and ref.faces.dtype == np.int64
     k = cycle.index(0)
     assert cycle[k:] + cycle[:k] == [0, 1, 2, 3]  # counter-clockwise
     assert ref.face_key.tolist() == [0, 1, 2, 3] and ref.extreme.tolist() == [0, 1, 2, 3]
