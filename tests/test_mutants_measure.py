@@ -372,3 +372,19 @@ def test_perimeter_of_a_quadrilateral_is_the_sum_of_its_sides():
     # Sides 5, 5, 5, 5 of a rhombus; its diagonals (8 and 6) must not enter.
     rhombus = np.array([[0.0, 0], [4, 3], [8, 0], [4, -3]])
     assert surface_area(rhombus, np.array([0, 3, 2, 1])) == 20.0
+
+
+def test_compare_lets_accurate_estimates_decide_and_returns_their_difference():
+    # Module docstring: the float estimates decide when their error bounds show the
+    # difference within the tolerance, and the difference returned is then theirs.  A
+    # triangle with legs 0.1 and 0.3 (not exact in binary: its float determinant is rounded)
+    # against an empty surface: a tolerance 10 or 1 + 1e-9 times the difference is decided
+    # by the floats, so the returned gap is the estimate's, not the (different) exact one.
+    tri = surface_measure(np.array([[0.0, 0], [0.1, 0], [0, 0.3]]), np.array([0, 1, 2]))
+    empty = surface_measure(np.array([[0.0, 0], [1, 1]]), np.array([0, 1]))
+    float_gap = Fraction(tri.estimate) / 2
+    exact_gap = tri.exact_sum() / 2
+    assert exact_gap == Fraction(0.1) * Fraction(0.3) / 2 != float_gap
+    for tol in (10 * float_gap, float_gap * (1 + Fraction(1, 10**9))):
+        assert compare(tri, empty, tol) == (True, float_gap)
+        assert compare(empty, tri, tol) == (True, float_gap)

@@ -134,15 +134,16 @@ def test_reference_of_a_tetrahedron_with_an_inner_point():
 
 
 def test_reference_of_a_polygon_is_its_counter_clockwise_cycle():
-    pts = np.array([[0.0, 0], [4, 0], [4, 4], [0, 4], [1, 2], [2, 0]])  # 5 inside, 6 on an edge
+    # Corners listed out of order: counter-clockwise they are 0, 3, 1, 2 (4 inside, 5 on an edge).
+    pts = np.array([[0.0, 0], [4, 4], [0, 4], [4, 0], [1, 2], [2, 0]])
     ref = qhull_reference(pts)
     assert ref.qhull_ok is True and ref.volume == 16.0 and ref.affine_rank == 2
     cycle = ref.faces.tolist()
     assert sorted(cycle) == [0, 1, 2, 3] and np.array_equal(ref.vertices, ref.faces) and ref.vertices is not ref.faces
     assert ref.vertices.dtype == np.int64 and ref.faces.dtype == np.int64
     k = cycle.index(0)
-    assert cycle[k:] + cycle[:k] == [0, 1, 2, 3]  # counter-clockwise
-    assert ref.face_key.tolist() == [0, 1, 2, 3] and ref.extreme.tolist() == [0, 1, 2, 3]
+    assert cycle[k:] + cycle[:k] == [0, 3, 1, 2]  # counter-clockwise
+    assert ref.face_key.tolist() == [0, 3, 1, 2] and ref.extreme.tolist() == [0, 1, 2, 3]
 
 
 def test_same_faces_in_any_order_and_rotation_never_reversed():
@@ -246,19 +247,22 @@ def test_every_failed_option_set_is_recorded_and_the_first_success_named():
         (np.zeros((1, 3)), 0, None),
         (np.array([[1.0, 1.0], [0.0, 0.0]]), 1, [0, 1]),  # 2D: the exact monotone chain, sorted
         (np.array([[2.0, 2.0]]), 0, [0]),
+        (np.array([[0.0, 0, 0], [1, 1, 1], [2, 0, 0]]) * 2.0**200, 2, None),  # rescaled by 2**-202
     ],
 )
 def test_when_every_option_set_fails(points, rank, extreme):
     ref = qhull_reference(points)
     assert ref.vertices is None and ref.faces is None and ref.volume is None and ref.options is None
-    assert ref.qhull_ok is None and ref.face_key is None
+    assert ref.qhull_ok is None and ref.face_key is None and ref.qhull_detail == ""
     assert [a.split(": ")[0] for a in ref.attempts] == _LABELS
     assert ref.error == "Qhull failed with every option set: " + ref.attempts[-1]
     assert ref.error.startswith("Qhull failed with every option set: QbB QJ: QhullError: ")
     assert ref.affine_rank == rank and len(ref.simplex) == rank + 1
     assert (None if ref.extreme is None else ref.extreme.tolist()) == extreme
     assert ref.distround == distround(points) and ref.n_points == len(points) and ref.dim == points.shape[1]
-    assert np.array_equal(ref.points, points) and ref.exponent == 0
+    top = np.abs(points).max()
+    k = 0 if top == 0 or 2.0**-100 <= top <= 2.0**100 else -math.frexp(top)[1]  # exact_scale's documented range
+    assert np.array_equal(ref.points, points) and ref.exponent == k and np.array_equal(ref.scaled, np.ldexp(points, k))
 
 
 @pytest.mark.parametrize(

@@ -286,6 +286,16 @@ def test_break_ties_2d_with_an_exact_interior_point_that_no_double_reaches():
     assert s.tolist() == want
 
 
+def test_break_ties_2d_at_the_height_of_an_exact_interior_point_off_the_axis():
+    # The centroid of (0, 0), (3, 0), (-3, 3) is (0, 1): vertices at y = 1 are decided by
+    # x alone, on either side of it.
+    interior = Interior.from_simplex(np.array([[0.0, 0], [3, 0], [-3, 3]]))
+    a = np.array([[-2.0, 1], [2, 1], [-0.5, 1], [7, 1]])
+    s = np.zeros(4, dtype=np.int8)
+    break_ties_2d(s, a, None, interior)
+    assert s.tolist() == [_tie_sign_2d((0, 1), p) for p in a] == [-1, 1, -1, 1]
+
+
 def test_break_ties_2d_refuses_an_interior_point_on_a_vertex():
     s = np.array([0, 1], dtype=np.int8)
     a = np.array([[1.0, 2.0], [0.0, 0.0]])
@@ -307,6 +317,8 @@ def test_ray_point_is_fixed_per_seed_off_the_origin_and_at_the_input_scale():
         assert not np.array_equal(q, origin)
         assert np.abs(q - origin).max() <= 8.0  # a sixteenth of the extent per unit of direction
         assert len(set((q - origin).tolist())) == 3  # a random direction, not along a diagonal
+        far = ray_point(origin, 2.0**20, seed)  # at the input's scale, not a fixed distance
+        assert 2.0**10 <= np.abs(far - origin).max() <= 2.0**20
     assert not np.array_equal(ray_point(origin, 8.0, 0), ray_point(origin, 8.0, 1))
     assert ray_point(np.zeros(2), 1.0, 0).shape == (2,)
 
@@ -322,10 +334,12 @@ def test_ray_point_near_the_double_range_is_finite_and_silent():
             assert np.isfinite(q).all() and q.shape == origin.shape
             hit_origin += bool(np.array_equal(q, origin))
     assert hit_origin  # some direction leaves the double range from a corner of it
-    # Just below the guard the plain sum cannot overflow and is the documented point.
-    below = float(np.nextafter(2.0**1000, 0))
-    q = ray_point(np.zeros(3), below, 3)
-    assert np.isfinite(q).all() and not np.array_equal(q, np.zeros(3))
+    # Just below the guard the plain sum cannot overflow and is the documented point;
+    # above it, where the sum still fits, it is that point too (not the origin).
+    for extent in (float(np.nextafter(2.0**1000, 0)), 2.0**1010):
+        for seed in range(3):
+            q = ray_point(np.zeros(3), extent, seed)
+            assert np.isfinite(q).all() and extent / 2**10 <= np.abs(q).max() <= extent
 
 
 def test_wrap_numbers_at_the_top_of_the_double_range():
