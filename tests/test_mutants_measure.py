@@ -330,11 +330,11 @@ def test_rotated_to_lowest_triangles(offset):
     assert got == (np.array([[0, 1, 5], [2, 3, 4]]) + offset).tolist()
 
 
-@pytest.mark.parametrize("top", [9, 2**21 - 2])
+@pytest.mark.parametrize("top", [9, 2**21 - 2, 2**21 + 9, 2**40])
 def test_rotated_to_lowest_of_a_triangle_repeating_its_lowest_index(top):
     # (X, Y, X) starts at the occurrence giving the smallest sequence, (X, X, Y), whether or
-    # not the other faces start at their lowest index already.  (Indices below 2**21 - 1:
-    # through the integer keys; see the report for the comparison path above.)
+    # not the other faces start at their lowest index already, below 2**21 vertices (through
+    # the integer keys) and above (by comparisons).
     base = top - 9
     tri = np.array([[3, 8, 3], [1, 2, 9]]) + base
     got = rotated_to_lowest(FaceSet.from_triangles(tri)).to_python()

@@ -84,7 +84,7 @@ def rotated_to_lowest(faces: FaceSet) -> FaceSet:
             out, _ = canonical_triangles(tri, n)
         else:
             from_b = (b < a) & (b <= c)
-            from_c = (c < a) & (c < b)
+            from_c = (c <= a) & (c < b)  # (X, Y, X) starts at its second X: (X, X, Y) is the smallest
             out = tri.copy()
             out[from_b] = tri[from_b][:, [1, 2, 0]]
             out[from_c] = tri[from_c][:, [2, 0, 1]]
