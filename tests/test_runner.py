@@ -25,7 +25,9 @@ from hullstress._registry import ALGORITHMS, GENERATORS
 from hullstress.errors import UsageError
 from hullstress.plugins import load_plugin
 from hullstress.results import ROW_COLUMNS, STATUSES, TIMING_COLUMNS, to_frame
-from hullstress.runner import CallPool, RunnerOptions, Task, execute, run_one
+from hullstress.runner import CallPool, ExecutionStats, PendingJob, RunnerOptions, Task, execute, run_one
+from hullstress.runner._pool import PoolSettings
+from hullstress.runner._protocol import algorithm_refs
 from hullstress.sweep import sort_table
 
 from _processes import alive
@@ -551,3 +553,46 @@ def test_call_output_is_captured_per_call_even_after_a_call_closed_stdout():
     assert sorted(second[0].splitlines()) == ["QH7088 from C, run-id <n>", "second call"]
     assert quiet == [""]
     print("the terminal's own stream still works")
+
+
+# -- workers started in the background ----------------------------------------------
+
+
+def test_a_worker_started_in_the_background_is_taken_in_or_stopped_with_the_pool(plugin):
+    # A replacement worker starts in a thread (the fork server's fork no longer stops the loop);
+    # the pool takes it in when it is up, and closing the pool stops one still starting.
+    from hullstress.runner._pool import WorkerPool
+
+    pool = WorkerPool(1, memory_limit_bytes=None)
+    slot = pool._slots[0]
+    pool._begin_start(slot)
+    pool._adopt_started(wait=True)
+    assert slot.alive and slot.starting is None and slot.proc.is_alive()
+    pool._kill(slot)
+    pool._begin_start(slot)
+    starting = slot.starting
+    starting.thread.join()
+    second = starting.result[0].pid
+    pool.close()  # a started worker not yet taken in: stopped all the same
+    assert slot.starting is None and slot.proc is None and pool._wake is None
+    with pytest.raises(ProcessLookupError):
+        os.kill(second, 0)
+    # A pool used again after close works as before.
+    rows = []
+    pool.run([PendingJob(Task(0, _cases(1)[0], (AlgorithmConfig(P + "ok"),)))],
+             PoolSettings(timeout=5.0, check_timeout=5.0, qhull=False, refs=algorithm_refs(
+                 [Task(0, _cases(1)[0], (AlgorithmConfig(P + "ok"),))])), rows.append, ExecutionStats())
+    assert [r.status for r in rows] == ["pass"]
+    pool.close()
+
+
+def test_a_worker_that_cannot_start_fails_the_run_in_the_callers_thread(plugin, monkeypatch):
+    from hullstress.runner import _pool
+
+    def refuse(self, index):
+        raise OSError(24, "Too many open files")
+
+    monkeypatch.setattr(_pool.WorkerPool, "_new_worker", refuse)
+    with pytest.raises(OSError, match="Too many open files"):
+        with CallPool(1, memory_limit_mb=None) as pool:
+            pool.run([Task(0, _cases(1)[0], (AlgorithmConfig(P + "ok"),))], timeout=5.0, qhull=False)

@@ -226,6 +226,14 @@ def _ready(fds: list[int], timeout: float) -> set[int]:
     return {fd for fd, _ in poller.poll(math.ceil(timeout * 1000) if timeout > 0 else 0)}
 
 
+class _Start:
+    """A worker process being started in a background thread, and what came of it."""
+
+    def __init__(self, thread: threading.Thread) -> None:
+        self.thread = thread
+        self.result: tuple[Any, Connection] | BaseException | None = None
+
+
 class _Slot:
     """One worker process and what the parent knows about its progress."""
 
@@ -234,6 +242,8 @@ class _Slot:
         self.proc: Any = None
         self.conn: Connection | None = None
         self.jobs: deque[PendingJob] = deque()
+        #: A worker being started in the background for this slot (see WorkerPool._begin_start).
+        self.starting: _Start | None = None
         self.reset_state()
 
     def reset_state(self) -> None:
@@ -274,6 +284,9 @@ class WorkerPool:
         self.memory_limit_bytes = memory_limit_bytes
         self._slots = [_Slot(i) for i in range(size)]
         self.restarts = 0
+        # Written by a background start when its worker is up, to wake the loop waiting on its workers
+        # (made when first needed, closed with the pool).
+        self._wake: tuple[int, int] | None = None
 
     @property
     def size(self) -> int:
@@ -281,16 +294,70 @@ class WorkerPool:
 
     # -- worker processes -------------------------------------------------
 
-    def _start(self, slot: _Slot) -> None:
+    def _new_worker(self, index: int) -> tuple[Any, Connection]:
+        """Start a worker process (blocks until the fork server reports it): the process and its pipe."""
         ctx = _get_context()
         parent_end, child_end = ctx.Pipe(duplex=True)
         proc = ctx.Process(target=worker_main, args=(child_end, self.memory_limit_bytes),
-                           name=f"hullstress-worker-{slot.index}", daemon=True)
+                           name=f"hullstress-worker-{index}", daemon=True)
         with _start_lock, _children_allowed(), _worker_environment():
             proc.start()
         child_end.close()
-        slot.proc, slot.conn = proc, parent_end
-        slot.reset_state()
+        return proc, parent_end
+
+    def _wake_pipe(self) -> tuple[int, int]:
+        """The (read, write) ends of the wake-up pipe of background starts."""
+        if self._wake is None:
+            read, write = os.pipe()
+            os.set_blocking(read, False)
+            self._wake = (read, write)
+        return self._wake
+
+    def _begin_start(self, slot: _Slot) -> None:
+        """Start ``slot``'s worker in a background thread; :meth:`_adopt_started` takes it in.
+
+        Starting a worker waits for the fork server to fork (2 to 15 ms, more on
+        a busy machine); done in the loop, that wait stopped the other workers'
+        rows and jobs too, after every crash and timeout.
+        """
+        _get_context()  # the fork server starts (with its output redirected) here, never in a thread
+        wake = self._wake_pipe()[1]
+
+        def run() -> None:
+            try:
+                start.result = self._new_worker(slot.index)
+            except BaseException as exc:  # given to the loop, which raises it
+                start.result = exc
+            finally:
+                try:
+                    os.write(wake, b"!")
+                except OSError:
+                    pass  # the pool is closed
+
+        start = _Start(threading.Thread(target=run, name=f"hullstress-start-{slot.index}", daemon=True))
+        slot.starting = start
+        start.thread.start()
+
+    def _adopt_started(self, *, wait: bool = False) -> None:
+        """Take in the workers whose background start has ended (waiting for them with ``wait``)."""
+        if self._wake is not None:
+            try:
+                while os.read(self._wake[0], 4096):
+                    pass
+            except (BlockingIOError, OSError):
+                pass
+        for slot in self._slots:
+            start = slot.starting
+            # Done when it has a result (set before its wake-up byte; the thread may still be ending).
+            if start is None or (start.result is None and not wait):
+                continue
+            start.thread.join()
+            slot.starting = None
+            if isinstance(start.result, BaseException):
+                raise start.result
+            assert start.result is not None
+            slot.proc, slot.conn = start.result
+            slot.reset_state()
 
     def _kill(self, slot: _Slot) -> int | None:
         """Kill (if still running) and reap ``slot``'s worker; return its exit code."""
@@ -312,6 +379,7 @@ class WorkerPool:
 
     def close(self) -> None:
         """Stop every worker (politely, then by force)."""
+        self._adopt_quietly()
         for slot in self._slots:
             if slot.proc is None:
                 continue
@@ -327,9 +395,22 @@ class WorkerPool:
                 self._kill(slot)
             slot.jobs.clear()
             slot.reset_state()
+        if self._wake is not None:
+            for fd in self._wake:
+                os.close(fd)
+            self._wake = None
+
+    def _adopt_quietly(self) -> None:
+        """Wait for background starts and take their workers in (to stop them); a failed start is moot now."""
+        try:
+            self._adopt_started(wait=True)
+        except BaseException:
+            for slot in self._slots:
+                slot.starting = None
 
     def kill_all(self) -> None:
         """Kill every worker at once (interruption)."""
+        self._adopt_quietly()
         for slot in self._slots:
             if slot.proc is not None and slot.proc.is_alive():
                 slot.proc.kill()
@@ -378,16 +459,18 @@ class WorkerPool:
     def _loop(self, queue: deque[PendingJob], settings: PoolSettings,
               on_row: Callable[[ResultRow], None], stats: ExecutionStats) -> None:
         while True:
+            self._adopt_started()
             self._fill(queue, settings, stats)
             busy = [s for s in self._slots if s.jobs]
-            if not busy:
+            starting = queue and any(s.starting is not None for s in self._slots)
+            if not busy and not starting:
                 if queue:  # only the budget leaves work unsent
                     stats.budget_exhausted = True
                 return
             now = time.monotonic()
-            next_deadline = min(s.t0 + self._limit(s, settings) for s in busy)
-            ready = _ready([fd for s in busy for fd in (s.conn.fileno(), s.proc.sentinel)],
-                           max(0.0, next_deadline - now))
+            next_deadline = min((s.t0 + self._limit(s, settings) for s in busy), default=now + settings.check_timeout)
+            fds = [fd for s in busy for fd in (s.conn.fileno(), s.proc.sentinel)]
+            ready = _ready(fds + [self._wake_pipe()[0]] if starting else fds, max(0.0, next_deadline - now))
             for s in busy:
                 message, dead = s.conn.fileno() in ready, s.proc.sentinel in ready
                 if not (message or dead):
@@ -416,7 +499,10 @@ class WorkerPool:
             if settings.budget_over():
                 stats.budget_exhausted = True
                 return
-            open_slots = [s for s in self._slots if s.index not in broken]
+            for s in self._slots:
+                if not s.alive and s.starting is None:
+                    self._begin_start(s)
+            open_slots = [s for s in self._slots if s.alive and s.index not in broken]
             if not open_slots:
                 return
             slot = min(open_slots, key=lambda s: len(s.jobs))
@@ -427,8 +513,6 @@ class WorkerPool:
             if slot.jobs and len(payload) > PREFETCH_MAX_BYTES:
                 return  # large: it waits until a worker is idle, so the send cannot block
             queue.popleft()
-            if not slot.alive:
-                self._start(slot)
             assert slot.conn is not None
             try:
                 slot.conn.send_bytes(payload)
@@ -556,7 +640,7 @@ class WorkerPool:
         slot.reset_state()
         self.restarts += 1
         stats.worker_restarts += 1
-        # The replacement starts lazily, when the next job is sent to this slot.
+        # The replacement starts when the next job needs a worker (_fill), in the background.
 
     @staticmethod
     def _origin(task: Task, k: int, settings: PoolSettings) -> str | None:
