@@ -1,0 +1,447 @@
+"""Containment (``hullstress/checker/containment.py``), pinned where the mutation run found it loose.
+
+Each test here was written against mutants of ``containment.py`` that survived the
+rest of the fast suite (``tools/mutation.sh 'hullstress.checker.containment.*'``,
+README "Mutation testing").  Both exact strategies are reached: brute force (at most
+``_SMALL`` point-facet entries, no centre, or a surface not certified) and the cones
+around a certified centre (2D: the angular search), with points exactly on, one ulp
+inside and one ulp outside facets, at unit, ~1e-300 and ~1e300 scales.  Every
+expected answer comes from exact arithmetic written here (integers, or Fractions of
+the doubles' exact values) or from the documented behaviour, never from the
+checker's own output.  Scaling by a power of two is exact, so an input built at
+unit scale keeps its answer at 2**-1000 and 2**1000.
+"""
+
+from __future__ import annotations
+
+import math
+from fractions import Fraction
+
+import numpy as np
+import pytest
+from scipy.spatial import ConvexHull
+
+from hullstress.checker import containment as cm
+from hullstress.checker.containment import check_containment2d, check_containment3d
+from hullstress.checker.topology import half_edges
+from hullstress.contract import FaceSet
+
+SCALES = [1.0, 2.0**-1000, 2.0**1000]
+
+
+def _up(x: float) -> float:
+    return math.nextafter(x, math.inf)
+
+
+def _down(x: float) -> float:
+    return math.nextafter(x, -math.inf)
+
+
+# --------------------------------------------------------------------------- the exact oracle
+
+
+def _exact_outside(points: np.ndarray, facets: np.ndarray, scale: float = 1.0) -> list[int]:
+    """Indices of ``points`` strictly outside some facet, exactly.
+
+    ``facets`` holds vertex indices: (m, 3) outward triangles in 3D, (m, 2)
+    counter-clockwise edges in 2D; their corners are integers times ``scale`` (a power
+    of two).  The outward normal is ``(b - a) x (c - a)`` in 3D, the edge ``b - a``
+    rotated clockwise in 2D; a point is outside when ``normal . p > normal . a``.
+    With small corners (below 2**12), points that are small integers times ``scale``
+    are decided in int64 (every product fits); the others in Python integers and
+    Fractions.
+    """
+    pts = np.asarray(points, dtype=np.float64)
+    unit = pts / scale  # exact for a power of two (checked below, point by point)
+    for k in range(facets.shape[1]):
+        c = unit[facets[:, k]]
+        assert np.array_equal(c, np.round(c)) and np.array_equal(c * scale, pts[facets[:, k]])
+    corners = [[[int(x) for x in row] for row in unit[facets[:, k]]] for k in range(facets.shape[1])]
+    normals = []
+    for corner in zip(*corners):
+        a = corner[0]
+        if len(corner) == 3:
+            u = [corner[1][k] - a[k] for k in range(3)]
+            v = [corner[2][k] - a[k] for k in range(3)]
+            n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]]
+        else:
+            n = [corner[1][1] - a[1], a[0] - corner[1][0]]
+        normals.append((n, sum(x * y for x, y in zip(n, a))))
+    out = np.zeros(len(pts), dtype=bool)
+    whole = np.all(unit == np.round(unit), axis=1) & np.all(np.abs(unit) < 2**20, axis=1)
+    whole &= np.all(pts == unit * scale, axis=1)
+    if max(abs(x) for c in corners for row in c for x in row) < 2**12:
+        n = np.array([r for r, _ in normals], dtype=np.int64)
+        off = np.array([o for _, o in normals], dtype=np.int64)
+        out[whole] = (unit[whole].astype(np.int64) @ n.T > off).any(axis=1)
+    else:
+        whole[:] = False
+    # The rest in Python integers: point = X / den, scale = num_s / den_s, so the test
+    # normal . X / den > off * num_s / den_s becomes (normal . X) * den_s > off * num_s * den.
+    num_s, den_s = Fraction(scale).as_integer_ratio()
+    n_obj = np.array([r for r, _ in normals], dtype=object)
+    off_obj = np.array([o * num_s for _, o in normals], dtype=object)
+    for i in np.flatnonzero(~whole):
+        x = [Fraction(float(t)) for t in pts[i]]
+        den = max(f.denominator for f in x)  # powers of two: the largest is a common denominator
+        big = np.array([int(f * den) for f in x], dtype=object)
+        out[i] = bool(((n_obj @ big) * den_s > off_obj * den).any())
+    return np.flatnonzero(out).tolist()
+
+
+# --------------------------------------------------------------------------- a tetrahedron, brute force
+
+_TET = np.array([[0, 0, 0], [4, 0, 0], [0, 4, 0], [0, 0, 4]], dtype=np.float64)
+_TET_FACES = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]  # outward (counter-clockwise seen from outside)
+
+
+def _tet_probes(s: float) -> np.ndarray:
+    """Points exactly on the oblique face x + y + z = 4 s, one ulp inside and one ulp outside it,
+    and on / one ulp (a subnormal) beyond the face y = 0."""
+    return np.array([
+        [s, s, 2 * s], [s, s, _up(2 * s)], [s, s, _down(2 * s)],
+        [_up(s), s, 2 * s], [s, 0.0, s], [s, -0.0, s], [s, _down(0.0), s],
+        [s, s, s], [2 * s, 2 * s, 0.0], [_up(2 * s), 2 * s, 0.0],
+    ])
+
+
+@pytest.mark.parametrize("scale", SCALES)
+def test_brute_tetrahedron_on_and_one_ulp_from_its_faces(scale):
+    pts = np.vstack([_TET * scale, _tet_probes(scale)])
+    fs = FaceSet.from_polygons(_TET_FACES)
+    plane = np.array(_TET_FACES, dtype=np.int64)
+    want = _exact_outside(pts, plane, scale)
+    # By hand: the ulp beyond x + y + z = 4 (rows 5, 7, 13) and below y = 0 (row 10).
+    assert want == [5, 7, 10, 13]
+    res = check_containment3d(pts, fs, plane)
+    assert res.outside.tolist() == want and not res.ok and res.method == "brute"
+    # The magnitude is a float report, within rounding of 0 here (never inf or NaN).
+    assert 0.0 <= res.magnitude < 1e-15 * scale
+
+
+# --------------------------------------------------------------------------- a convex ball surface, both strategies
+
+
+def _fibonacci_shell(count: int, radius: int) -> np.ndarray:
+    """``count`` integer points near a sphere of ``radius`` (Fibonacci spiral), times 6: then
+    the centroid of three of them and the midpoint of two are integer points too."""
+    golden = math.pi * (3 - math.sqrt(5))
+    pts = []
+    for i in range(count):
+        z = 1 - (2 * i + 1) / count
+        r = math.sqrt(1 - z * z)
+        pts.append((round(r * math.cos(golden * i) * radius), round(r * math.sin(golden * i) * radius), round(z * radius)))
+    return np.unique(np.array(pts, dtype=np.int64), axis=0) * 6
+
+
+def _ball_surface(count: int = 100, radius: int = 40) -> tuple[np.ndarray, np.ndarray]:
+    """A convex closed triangle mesh around the origin on integer points, outward, checked in integers."""
+    shell = _fibonacci_shell(count, radius)
+    shell = shell[ConvexHull(shell).vertices]
+    tri = ConvexHull(shell).simplices.astype(np.int64)
+    a, b, c = shell[tri[:, 0]], shell[tri[:, 1]], shell[tri[:, 2]]
+    inward = np.einsum("ij,ij->i", np.cross(b - a, c - a), a) < 0  # the origin above the plane
+    tri[inward] = tri[inward][:, ::-1]
+    a, b, c = shell[tri[:, 0]], shell[tri[:, 1]], shell[tri[:, 2]]
+    n = np.cross(b - a, c - a)
+    off = np.einsum("ij,ij->i", n, a)
+    assert (off > 0).all()  # the origin strictly below every facet
+    assert not (shell @ n.T > off).any()  # convex: no corner strictly above any facet
+    return shell, tri
+
+
+def _ball_probes(shell: np.ndarray, tri: np.ndarray, seed: int) -> np.ndarray:
+    """Query points around the ball surface, at unit scale: scattered integer points inside
+    and outside, facet centroids and edge midpoints (exactly on the surface), the centroids
+    one ulp beyond and one ulp within their facet along the normal's largest component,
+    corners one ulp off along each axis (beyond some facets of the corner, within others),
+    edge midpoints scaled by 3 (outside, exactly on the plane of a cone), the corners'
+    coordinates again under other indices, and points far outside."""
+    rng = np.random.default_rng(seed)
+    a, b, c = shell[tri[:, 0]], shell[tri[:, 1]], shell[tri[:, 2]]
+    n = np.cross(b - a, c - a)
+    centroid = (a + b + c) // 3
+    nudged = []
+    for f in range(0, len(tri), 4):
+        k = int(np.argmax(np.abs(n[f])))
+        for step in (_up, _down):
+            p = centroid[f].astype(np.float64)
+            p[k] = step(p[k])
+            nudged.append(p)
+    for v in shell[::4].astype(np.float64):
+        for k in range(3):
+            for step in (_up, _down):
+                p = v.copy()
+                p[k] = step(p[k])
+                nudged.append(p)
+    return np.vstack([
+        rng.integers(-300, 301, size=(120, 3)), centroid, (a + b) // 2, np.array(nudged), (a + b)[::5] // 2 * 3,
+        shell[::7], shell[::9] * 5, [[0, 0, 0], [0, 0, 1]],
+    ]).astype(np.float64)
+
+
+def _ball_case(seed: int, scale: float):
+    shell, tri = _ball_surface()
+    pts = np.vstack([shell.astype(np.float64), _ball_probes(shell, tri, seed)]) * scale
+    fs = FaceSet.from_polygons(tri.tolist())
+    return pts, tri, fs
+
+
+@pytest.mark.parametrize(("scale", "k"), [(1.0, 1), (1.0, 3), (2.0**-1000, 1), (2.0**1000, 2)])
+def test_cones_on_a_ball_surface_against_integers(scale, k):
+    # A certified surface with a centre: the cones decide every point, no fallback needed
+    # on a surface this regular (documented: "cones", "cones+brute" only when some fell back).
+    pts, tri, fs = _ball_case(5, scale)
+    want = _exact_outside(pts, tri, scale)
+    assert 50 < len(want) < len(pts) - 500 and len(pts) * len(tri) > cm._SMALL
+    he = half_edges(fs, len(pts))
+    res = check_containment3d(pts, fs, tri, certified=True, center=np.zeros(3), he=he, k=k)
+    assert res.outside.tolist() == want and res.ok is False and res.method == "cones"
+    assert res.outside.dtype == np.int64
+
+
+def test_brute_on_a_ball_surface_against_integers():
+    # Not certified, or no centre: brute force (at the extreme scales nearly every entry
+    # goes to the exact predicate, so the unit scale only; the tetrahedron covers those).
+    pts, tri, fs = _ball_case(5, 1.0)
+    want = _exact_outside(pts, tri)
+    he = half_edges(fs, len(pts))
+    for kwargs in ({"certified": False, "center": np.zeros(3), "he": he}, {"certified": True, "he": he}, {}):
+        res = check_containment3d(pts, fs, tri, **kwargs)
+        assert res.outside.tolist() == want and res.ok is False and res.method == "brute", kwargs
+
+
+# --------------------------------------------------------------------------- repeated and parallel facet planes
+
+
+def _lattice_cube(k: int, side: int) -> tuple[np.ndarray, np.ndarray]:
+    """The cube [0, side]^3 with each face cut into k x k squares of two triangles each,
+    outward, plus one big triangle per face (half the face): 6 planes, many facets each."""
+    index: dict[tuple[int, int, int], int] = {}
+
+    def vid(p) -> int:
+        return index.setdefault(tuple(int(x) for x in p), len(index))
+
+    tris = []
+    step = side // k
+    for axis in range(3):
+        for level, outward in ((0, -1), (side, 1)):
+            def at(u, v):
+                p = [0, 0, 0]
+                p[axis], p[(axis + 1) % 3], p[(axis + 2) % 3] = level, u, v
+                return p
+
+            # (axis + 1, axis + 2) is a right-handed pair: (u, v) counter-clockwise faces +axis.
+            quads = [(at(i * step, j * step), at((i + 1) * step, j * step), at((i + 1) * step, (j + 1) * step),
+                      at(i * step, (j + 1) * step)) for i in range(k) for j in range(k)]
+            quads.append((at(0, 0), at(side, 0), at(side, side), at(0, side)))
+            for n, (p, q, r, s) in enumerate(quads):
+                pair = [(p, q, r), (p, r, s)] if n < len(quads) - 1 else [(p, q, s)]
+                for t in pair:
+                    t = [vid(x) for x in (t if outward > 0 else t[::-1])]
+                    tris.append(t)
+    pts = np.zeros((len(index), 3), dtype=np.int64)
+    for p, i in index.items():
+        pts[i] = p
+    tri = np.array(tris, dtype=np.int64)
+    a, b, c = pts[tri[:, 0]], pts[tri[:, 1]], pts[tri[:, 2]]
+    n = np.cross(b - a, c - a)
+    centre = np.full(3, side / 2)
+    assert (np.einsum("ij,ij->i", n, centre - a) < 0).all()  # outward: the centre below every facet
+    return pts, tri
+
+
+def _plane_of(pts: np.ndarray, t) -> tuple:
+    """A facet's oriented plane exactly: its primitive integer normal and offset."""
+    a, b, c = (pts[i] for i in t)
+    n = np.cross(b - a, c - a)
+    g = math.gcd(*(int(x) for x in n))
+    n = tuple(int(x) // g for x in n)
+    return n, sum(x * int(y) for x, y in zip(n, a))
+
+
+def test_distinct_planes_keeps_one_facet_of_each_lattice_plane():
+    # Documented: coplanar facets with the same orientation bound the same half-space,
+    # one of each group suffices, and on a lattice every member is confirmed exactly.
+    pts, tri = _lattice_cube(4, 8)
+    rng = np.random.default_rng(3)
+    for t in (tri, tri[rng.permutation(len(tri))], np.roll(tri, 1, axis=1)):
+        f = pts.astype(np.float64)
+        keep = cm._distinct_planes([f[t[:, 0]], f[t[:, 1]], f[t[:, 2]]])
+        planes = {_plane_of(pts, x) for x in t}
+        assert len(planes) == 6
+        assert sorted(_plane_of(pts, t[i]) for i in keep) == sorted(planes)
+        assert keep.dtype == np.int64 and keep.tolist() == sorted(keep.tolist())
+    # Two facets on one plane (the largest group has two members): one is enough.
+    f = pts.astype(np.float64)
+    two = tri[[0, 1, 40]]
+    assert _plane_of(pts, two[0]) == _plane_of(pts, two[1]) != _plane_of(pts, two[2])
+    assert len(cm._distinct_planes([f[two[:, 0]], f[two[:, 1]], f[two[:, 2]]])) == 2
+
+
+# A sliver in the plane x = 0 whose exact normal points to +x while the float cross product of
+# its rounded edge vectors points to -x: the rounded plane key groups it with the -x facets of
+# that plane, and only the exact orientation test (in the yz projection: the xy projection of
+# the plane collapses) keeps it.
+_SLIVER = [[0.0, -3107.6607442293016, -327.31021877988496], [0.0, 160367.7352633019, 16890.517606124187],
+           [0.0, -3.132201846249246, -0.3298949775847717]]
+
+
+def _exact_normal(a, b, c) -> list[Fraction]:
+    a, b, c = ([Fraction(float(x)) for x in p] for p in (a, b, c))
+    u = [b[k] - a[k] for k in range(3)]
+    v = [c[k] - a[k] for k in range(3)]
+    return [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]]
+
+
+def _near_plane_facets() -> list[list[list[float]]]:
+    """Facets around the plane x = 0 facing -x: the representative (0), the same plane and
+    orientation again (1: redundant), the representative with one corner 2**-40 off the plane
+    (2, 3, 4), the parallel plane x = -2**-40 (5), the sliver (6), the representative reversed (7)."""
+    t = 2.0**-40
+    rep = [[0.0, 0.0, 0.0], [0.0, 0.0, 4.0], [0.0, 4.0, 0.0]]
+    return [
+        rep, [[0.0, 0.0, 0.0], [0.0, 0.0, 8.0], [0.0, 8.0, 4.0]],
+        [[t, 0.0, 0.0], rep[1], rep[2]], [rep[0], [t, 0.0, 4.0], rep[2]], [rep[0], rep[1], [t, 4.0, 0.0]],
+        [[-t, 0.0, 0.0], [-t, 0.0, 4.0], [-t, 4.0, 0.0]], _SLIVER, rep[::-1],
+    ]
+
+
+def test_distinct_planes_keeps_every_facet_it_cannot_confirm():
+    facets = np.array(_near_plane_facets())
+    assert _exact_normal(*facets[0])[0] < 0 and _exact_normal(*facets[1])[0] < 0  # both face -x
+    assert _exact_normal(*facets[6])[0] > 0 and _exact_normal(*facets[6])[1:] == [0, 0]  # the sliver faces +x
+    # The same configuration around y = 0 and z = 0 (a cyclic shift of the axes maps
+    # x = 0 to y = 0 and z = 0 and keeps orientations), where other projections collapse.
+    shifted = [facets, facets[:, :, [2, 0, 1]], facets[:, :, [1, 2, 0]]]
+    for group in shifted:
+        keep = cm._distinct_planes([group[:, 0], group[:, 1], group[:, 2]])
+        assert keep.tolist() == [0, 2, 3, 4, 5, 6, 7]
+    every = np.concatenate(shifted)
+    keep = cm._distinct_planes([every[:, 0], every[:, 1], every[:, 2]])
+    assert keep.tolist() == [i for i in range(24) if i % 8 != 1]
+
+
+# --------------------------------------------------------------------------- 2D: a convex ring, both strategies
+
+
+def _cross(o, a, b) -> int:
+    return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+
+
+def _ccw_hull(points: np.ndarray) -> np.ndarray:
+    """Strictly convex hull (monotone chain, integers), counter-clockwise from the lowest-leftmost point."""
+    pts = sorted({(int(x), int(y)) for x, y in points})
+    lower: list = []
+    upper: list = []
+    for p in pts:
+        while len(lower) >= 2 and _cross(lower[-2], lower[-1], p) <= 0:
+            lower.pop()
+        lower.append(p)
+    for p in reversed(pts):
+        while len(upper) >= 2 and _cross(upper[-2], upper[-1], p) <= 0:
+            upper.pop()
+        upper.append(p)
+    return np.array(lower[:-1] + upper[:-1], dtype=np.int64)
+
+
+def _ring(count: int, radius: int) -> np.ndarray:
+    """A convex polygon of integer points near a circle (times 2: edge midpoints are integers),
+    with a vertex on the negative x axis (where the angle jumps from pi to -pi)."""
+    ang = [2 * math.pi * i / count for i in range(count)]
+    pts = np.array([(round(math.cos(t) * radius), round(math.sin(t) * radius)) for t in ang] + [(-radius - 1, 0)])
+    ring = _ccw_hull(pts) * 2
+    assert any((ring[:, 0] < 0) & (ring[:, 1] == 0))
+    return ring
+
+
+def _ring_probes(ring: np.ndarray, seed: int) -> np.ndarray:
+    """Scattered integer points, the edge midpoints (on the polygon) and each one ulp beyond and
+    within its edge along the outward normal's larger component, corners and corners times 3
+    (on the ray from the centre through the corner) one ulp off along each axis, points on
+    the negative x axis (y = 0.0 and -0.0) inside and outside, far points, the centre."""
+    rng = np.random.default_rng(seed)
+    a, b = ring, np.roll(ring, -1, axis=0)
+    mid = (a + b) // 2
+    u = b - a
+    normal = np.stack([u[:, 1], -u[:, 0]], axis=1)
+    nudged = []
+    for e in range(len(ring)):
+        k = int(np.argmax(np.abs(normal[e])))
+        for step in (_up, _down):
+            p = mid[e].astype(np.float64)
+            p[k] = step(p[k])
+            nudged.append(p)
+    for v in np.vstack([ring[::3], ring[1::3] * 3]).astype(np.float64):
+        for k in range(2):
+            for step in (_up, _down):
+                p = v.copy()
+                p[k] = step(p[k])
+                nudged.append(p)
+    r = int(np.abs(ring).max())
+    axis = [[-x, y] for x in (r // 2, r - 2, r, r + 2, 3 * r) for y in (0.0, -0.0)]
+    return np.vstack([rng.integers(-r - r // 4, r + r // 4 + 1, size=(200, 2)), mid, np.array(nudged),
+                      np.array(axis), ring[::5] * 3, ring[::3], [[0, 0], [1, 0]]]).astype(np.float64)
+
+
+def _ring_case(seed: int, scale: float):
+    ring = _ring(160, 400)
+    pts = np.vstack([ring.astype(np.float64), _ring_probes(ring, seed)]) * scale
+    poly = np.arange(len(ring))
+    edges = np.stack([poly, np.roll(poly, -1)], axis=1)
+    return pts, poly, edges
+
+
+@pytest.mark.parametrize("scale", SCALES)
+def test_angular_search_on_a_ring_against_integers(scale):
+    pts, poly, edges = _ring_case(7, scale)
+    want = _exact_outside(pts, edges, scale)
+    assert 50 < len(want) < len(pts) - 200 and len(pts) * len(poly) > cm._SMALL
+    res = check_containment2d(pts, poly, certified=True, center=np.zeros(2))
+    assert res.outside.tolist() == want and res.ok is False and res.method == "cones"
+    assert res.outside.dtype == np.int64
+
+
+def test_brute_on_a_ring_against_integers():
+    pts, poly, edges = _ring_case(7, 1.0)
+    want = _exact_outside(pts, edges)
+    for kwargs in ({"certified": False, "center": np.zeros(2)}, {"certified": True}, {}):
+        res = check_containment2d(pts, poly, **kwargs)
+        assert res.outside.tolist() == want and res.ok is False and res.method == "brute", kwargs
+
+
+def _largest_distance(points: np.ndarray, facets: np.ndarray, outside: list[int]) -> float:
+    """The largest distance of a point of ``outside`` above a facet plane (exact integer
+    numerator, float division: the magnitude is a float report).  Only the integer points
+    count: the others are within an ulp of the surface, far below the far points' distance."""
+    corners = [points[facets[:, k]].astype(np.int64) for k in range(facets.shape[1])]
+    if len(corners) == 3:
+        n = np.cross(corners[1] - corners[0], corners[2] - corners[0])
+    else:
+        u = corners[1] - corners[0]
+        n = np.stack([u[:, 1], -u[:, 0]], axis=1)
+    off = np.einsum("ij,ij->i", n, corners[0])
+    p = points[outside]
+    p = p[np.all(p == np.round(p), axis=1)].astype(np.int64)
+    height = p @ n.T - off  # exact in int64
+    return float((height / np.sqrt((n * n).sum(axis=1).astype(np.float64))).max())
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_the_magnitude_is_the_largest_distance_outside(dim):
+    # "Largest distance outside (float, for reporting)": the same for every strategy.
+    if dim == 3:
+        pts, facets, fs = _ball_case(5, 1.0)
+        he = half_edges(fs, len(pts))
+        runs = [check_containment3d(pts, fs, facets, certified=True, center=np.zeros(3), he=he),
+                check_containment3d(pts, fs, facets, certified=False, center=np.zeros(3)),
+                check_containment3d(pts, fs, facets)]
+    else:
+        pts, poly, facets = _ring_case(7, 1.0)
+        runs = [check_containment2d(pts, poly, certified=True, center=np.zeros(2)),
+                check_containment2d(pts, poly, center=np.zeros(2)), check_containment2d(pts, poly)]
+    want = _exact_outside(pts, facets)
+    top = _largest_distance(pts, facets, want)
+    assert top > 100.0  # the far points
+    for res in runs:
+        assert res.magnitude == pytest.approx(top, rel=1e-12), res.method
