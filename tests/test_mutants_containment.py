@@ -22,6 +22,7 @@ import pytest
 from scipy.spatial import ConvexHull
 
 from hullstress.checker import containment as cm
+from hullstress.checker._geometry import inner_radius
 from hullstress.checker.containment import check_containment2d, check_containment3d
 from hullstress.checker.topology import half_edges
 from hullstress.contract import FaceSet
@@ -238,45 +239,67 @@ def _lattice_cube(k: int, side: int) -> tuple[np.ndarray, np.ndarray]:
             for n, (p, q, r, s) in enumerate(quads):
                 pair = [(p, q, r), (p, r, s)] if n < len(quads) - 1 else [(p, q, s)]
                 for t in pair:
-                    t = [vid(x) for x in (t if outward > 0 else t[::-1])]
-                    tris.append(t)
+                    tris.append([vid(x) for x in (t if outward > 0 else t[::-1])])
     pts = np.zeros((len(index), 3), dtype=np.int64)
     for p, i in index.items():
         pts[i] = p
     tri = np.array(tris, dtype=np.int64)
     a, b, c = pts[tri[:, 0]], pts[tri[:, 1]], pts[tri[:, 2]]
     n = np.cross(b - a, c - a)
-    centre = np.full(3, side / 2)
-    assert (np.einsum("ij,ij->i", n, centre - a) < 0).all()  # outward: the centre below every facet
+    assert (np.einsum("ij,ij->i", n, side - 2 * a) < 0).all()  # outward: the centre below every facet
     return pts, tri
 
 
+def _terraces(levels, size: int) -> tuple[np.ndarray, np.ndarray]:
+    """Horizontal facets facing +z on the planes z = level: a 2 x 2 grid of squares over
+    [0, size]^2 on each, two triangles per square (parallel planes, many facets each)."""
+    pts, tri = [], []
+    h = size // 2
+    for z in levels:
+        for i in range(2):
+            for j in range(2):
+                base = len(pts)
+                pts += [[i * h, j * h, z], [(i + 1) * h, j * h, z], [(i + 1) * h, (j + 1) * h, z], [i * h, (j + 1) * h, z]]
+                tri += [[base, base + 1, base + 2], [base, base + 2, base + 3]]
+    return np.array(pts, dtype=np.int64), np.array(tri, dtype=np.int64)
+
+
 def _plane_of(pts: np.ndarray, t) -> tuple:
-    """A facet's oriented plane exactly: its primitive integer normal and offset."""
-    a, b, c = (pts[i] for i in t)
-    n = np.cross(b - a, c - a)
-    g = math.gcd(*(int(x) for x in n))
-    n = tuple(int(x) // g for x in n)
-    return n, sum(x * int(y) for x, y in zip(n, a))
+    """A facet's oriented plane exactly: its primitive integer normal and offset (a Fraction)."""
+    a, b, c = ([Fraction(float(x)) for x in pts[i]] for i in t)
+    n = _exact_normal(a, b, c)
+    g = max(abs(x) for x in n)
+    n = tuple(x / g for x in n)
+    return n, sum(x * y for x, y in zip(n, a))
+
+
+def _dedup(pts: np.ndarray, tri: np.ndarray) -> np.ndarray:
+    f = np.asarray(pts, dtype=np.float64)
+    return cm._distinct_planes([f[tri[:, 0]], f[tri[:, 1]], f[tri[:, 2]]])
 
 
 def test_distinct_planes_keeps_one_facet_of_each_lattice_plane():
     # Documented: coplanar facets with the same orientation bound the same half-space,
     # one of each group suffices, and on a lattice every member is confirmed exactly.
+    # (The float keys of one plane are bit-identical here: the unit normal is an axis and
+    # its offset an integer, so every member is proposed with its representative.)
     pts, tri = _lattice_cube(4, 8)
     rng = np.random.default_rng(3)
-    for t in (tri, tri[rng.permutation(len(tri))], np.roll(tri, 1, axis=1)):
-        f = pts.astype(np.float64)
-        keep = cm._distinct_planes([f[t[:, 0]], f[t[:, 1]], f[t[:, 2]]])
-        planes = {_plane_of(pts, x) for x in t}
-        assert len(planes) == 6
-        assert sorted(_plane_of(pts, t[i]) for i in keep) == sorted(planes)
-        assert keep.dtype == np.int64 and keep.tolist() == sorted(keep.tolist())
+    tz, tt = _terraces([1, 2, 3, 5], 8)  # parallel planes close together, relative to the offsets' scale
+    cases = [(pts, tri, 6), (pts, tri[rng.permutation(len(tri))], 6), (pts, np.roll(tri, 1, axis=1), 6),
+             (pts / 8 - 0.5, tri, 6),  # the cube [-0.5, 0.5]^3
+             (pts / 4 - 1, tri, 6),  # the cube [-1, 1]^3: the largest coordinate is 1
+             (np.vstack([pts, tz]), np.vstack([tri, tt + len(pts)]), 10)]  # 4 more planes, z = 1, 2, 3, 5
+    for p, t, count in cases:
+        keep = _dedup(p, t)
+        planes = {_plane_of(p, x) for x in t}
+        assert len(planes) == count
+        assert sorted(_plane_of(p, t[i]) for i in keep) == sorted(planes)
+        assert keep.dtype == np.int64
     # Two facets on one plane (the largest group has two members): one is enough.
-    f = pts.astype(np.float64)
     two = tri[[0, 1, 40]]
     assert _plane_of(pts, two[0]) == _plane_of(pts, two[1]) != _plane_of(pts, two[2])
-    assert len(cm._distinct_planes([f[two[:, 0]], f[two[:, 1]], f[two[:, 2]]])) == 2
+    assert len(_dedup(pts, two)) == 2
 
 
 # A sliver in the plane x = 0 whose exact normal points to +x while the float cross product of
@@ -313,13 +336,17 @@ def test_distinct_planes_keeps_every_facet_it_cannot_confirm():
     assert _exact_normal(*facets[6])[0] > 0 and _exact_normal(*facets[6])[1:] == [0, 0]  # the sliver faces +x
     # The same configuration around y = 0 and z = 0 (a cyclic shift of the axes maps
     # x = 0 to y = 0 and z = 0 and keeps orientations), where other projections collapse.
+    # Facets 2 to 7 are each the only one of their oriented plane: all stay.  Of 0 and 1
+    # (the same oriented plane) at least one stays; one is dropped when the other
+    # represents the group (which member represents a group is not specified).
     shifted = [facets, facets[:, :, [2, 0, 1]], facets[:, :, [1, 2, 0]]]
     for group in shifted:
         keep = cm._distinct_planes([group[:, 0], group[:, 1], group[:, 2]])
-        assert keep.tolist() == [0, 2, 3, 4, 5, 6, 7]
+        assert set(keep.tolist()) >= {2, 3, 4, 5, 6, 7} and set(keep.tolist()) & {0, 1}
     every = np.concatenate(shifted)
-    keep = cm._distinct_planes([every[:, 0], every[:, 1], every[:, 2]])
-    assert keep.tolist() == [i for i in range(24) if i % 8 != 1]
+    keep = set(cm._distinct_planes([every[:, 0], every[:, 1], every[:, 2]]).tolist())
+    for base in (0, 8, 16):
+        assert keep >= {base + i for i in range(2, 8)} and keep & {base, base + 1}
 
 
 # --------------------------------------------------------------------------- 2D: a convex ring, both strategies
@@ -445,3 +472,218 @@ def test_the_magnitude_is_the_largest_distance_outside(dim):
     assert top > 100.0  # the far points
     for res in runs:
         assert res.magnitude == pytest.approx(top, rel=1e-12), res.method
+
+
+def test_angular_search_falls_back_to_brute_force_where_corner_angles_collide():
+    # A long spike pointing left: thirteen corners at x ~ -2**60 with |y| <= 6 (on the
+    # parabola x = -2**60 + 512 y**2), then two far corners at x = 2**60.  Seen from the
+    # centre, the thirteen lie within 6 * 2**-60 of the angle pi, so their float angles are
+    # all pi (y >= 0) or -pi (y < 0): the angular guess can be off by more than the two
+    # steps tried, and those points fall back to brute force (documented: method
+    # "cones+brute").  Every answer is still exact.
+    big = 2**60
+    corners = [(-big + 512 * y * y, y) for y in range(6, -7, -1)] + [(big, -(2**48)), (big, 2**48)]
+    hull = [tuple(int(v) for v in p) for p in _ccw_hull(np.array(corners, dtype=object))]
+    assert sorted(hull) == sorted(corners)  # strictly convex
+    ring = np.array(corners, dtype=np.float64)
+    assert ring.astype(np.int64).tolist() == [list(c) for c in corners]  # exact in doubles
+    assert set(np.arctan2(ring[:13, 1], ring[:13, 0]).tolist()) == {math.pi, -math.pi}
+    probes = []
+    for i in range(12):  # edge i joins corner i (y = 6 - i) and corner i + 1
+        (x0, y0), (x1, y1) = corners[i], corners[i + 1]
+        mx, my = float((x0 + x1) // 2), (y0 + y1) / 2  # on the edge (x0 + x1 is even)
+        probes += [(mx, my), (mx, _up(my)), (mx, _down(my)), (mx, my + 0.25), (mx, my - 0.25)]
+    rng = np.random.default_rng(11)
+    deep = rng.integers(-(2**40), 2**40, size=(3500, 2))  # inside the inscribed disc: settled at once
+    pts = np.vstack([ring, np.array(probes), deep.astype(np.float64)])
+    poly = np.arange(len(ring))
+    edges = np.stack([poly, np.roll(poly, -1)], axis=1)
+    want = _exact_outside(pts, edges)
+    # By hand: the edges are nearly horizontal; the upper arm's outside is up, the lower
+    # arm's down (edge 6 joins y = 0 and y = -1): one ulp or 0.25 beyond, never on the edge.
+    assert want == [15 + 5 * i + j for i in range(12) for j in ((1, 3) if i < 6 else (2, 4))]
+    assert len(pts) * len(poly) > cm._SMALL
+    res = check_containment2d(pts, poly, certified=True, center=np.zeros(2))
+    assert res.outside.tolist() == want and res.ok is False and res.method == "cones+brute"
+
+
+# --------------------------------------------------------------------------- points settled without a cone
+
+
+def test_every_point_deep_or_a_corner_returns_the_empty_answer():
+    # Large enough for the cones, but every point is a corner of the certified surface or
+    # inside the inscribed ball around the centre (the ball's radius here is above 200;
+    # the deep points are within 50 * sqrt(3) of it): nothing is outside.
+    shell, tri = _ball_surface()
+    rng = np.random.default_rng(2)
+    pts = np.vstack([shell, rng.integers(-50, 51, size=(400, 3))]).astype(np.float64)
+    fs = FaceSet.from_polygons(tri.tolist())
+    assert _exact_outside(pts, tri) == [] and len(pts) * len(tri) > cm._SMALL
+    he = half_edges(fs, len(pts))
+    res = check_containment3d(pts, fs, tri, certified=True, center=np.zeros(3), he=he)
+    assert res.ok is True and res.method == "cones" and res.magnitude == 0.0
+    assert res.outside.dtype == np.int64 and res.outside.shape == (0,)
+    # One point inside the surface but outside the ball: the same answer through the cones.
+    pts[-1] = [0.0, 0.0, 233.0]  # the ball's radius is about 230.4, the surface is at z = 235.1 there
+    assert _exact_outside(pts, tri) == []
+    res = check_containment3d(pts, fs, tri, certified=True, center=np.zeros(3), he=he)
+    assert res.ok is True and res.method == "cones" and res.magnitude == 0.0
+    assert res.outside.dtype == np.int64 and res.outside.shape == (0,)
+    # 2D: the ring's corners and points near its centre.
+    ring = _ring(160, 400)
+    pts2 = np.vstack([ring, rng.integers(-200, 201, size=(400, 2))]).astype(np.float64)
+    poly = np.arange(len(ring))
+    for extra in ([], [[0.0, 799.5]]):  # all settled at once; one inside beyond the disc (radius ~799.3)
+        p = np.vstack([pts2] + ([np.array(extra)] if extra else []))
+        assert _exact_outside(p, np.stack([poly, np.roll(poly, -1)], axis=1)) == []
+        res = check_containment2d(p, poly, certified=True, center=np.zeros(2))
+        assert res.ok is True and res.method == "cones" and res.magnitude == 0.0
+        assert res.outside.dtype == np.int64 and res.outside.shape == (0,)
+
+
+def _flat_octahedron(width: float, height: float) -> tuple[np.ndarray, np.ndarray]:
+    """Corners (+-width, 0, 0), (0, +-width, 0), (0, 0, +-height), eight outward triangles."""
+    pts = np.array([[width, 0, 0], [-width, 0, 0], [0, width, 0], [0, -width, 0], [0, 0, height], [0, 0, -height]])
+    tri = []
+    for x in (0, 1):
+        for y in (2, 3):
+            for z in (4, 5):
+                t = [x, y, z]
+                n = _exact_normal(*pts[t])
+                a = [Fraction(float(v)) for v in pts[x]]
+                tri.append(t if sum(p * q for p, q in zip(n, a)) > 0 else t[::-1])  # the origin below
+    return pts, np.array(tri)
+
+
+def test_a_point_whose_squared_offset_underflows_is_not_taken_as_deep():
+    # A flat octahedron 2 wide and 2**-599 thick: the inscribed ball around the origin has
+    # a radius of about 2**-600.  A point 2**-598 above the origin is outside (above the
+    # top corner), but the square of its offset underflows to 0, so its float distance from
+    # the centre is 0: only the absolute term added to that distance (2**-500) keeps it out
+    # of the ball.  Thousands of copies of the centre make the input large enough for the
+    # ball to be used at all.
+    corners, tri = _flat_octahedron(1.0, 2.0**-600)
+    assert 0 < inner_radius([corners[tri[:, k]] for k in range(3)], np.zeros(3)) < 2.0**-599
+    probes = np.array([[0.0, 0.0, 2.0**-598], [0.0, 0.0, 2.0**-601], [0.0, 0.0, -(2.0**-598)], [2.0**-598, 0.0, 0.0]])
+    want = _exact_outside(np.vstack([corners, probes]), tri, 2.0**-600)
+    assert want == [6, 8]  # above the top corner and below the bottom one; the others inside
+    pts = np.vstack([corners, probes, np.zeros((7000, 3))])
+    assert len(pts) * len(tri) > cm._SMALL
+    fs = FaceSet.from_polygons(tri.tolist())
+    he = half_edges(fs, len(pts))
+    for kwargs, method in (({"certified": True, "he": he}, "cones"), ({}, "brute")):
+        res = check_containment3d(pts, fs, tri, center=np.zeros(3), **kwargs)
+        assert res.outside.tolist() == want and res.method == method
+
+
+# --------------------------------------------------------------------------- helpers, chunks and fallbacks
+
+
+def test_unit_rows_scale_rows_to_length_one_without_overflow_or_underflow():
+    # "Rows scaled to unit length, for candidate search only (no overflow at 1e300; zero
+    # rows stay zero)"; tiny rows, whose squares underflow, too.
+    tiny = 2.0**-1060  # 3 and 4 times it are exact subnormals
+    v = np.array([[3.0, 4.0, 0.0], [3e300, 0.0, -4e300], [0.0, 3 * tiny, 4 * tiny], [0.0, 0.0, 0.0],
+                  [0.0, 0.0, -2.0], [5e-324, 0.0, 0.0], [1.0, 1.0, 1.0]])
+    r = 1 / math.sqrt(3)
+    want = [[0.6, 0.8, 0.0], [0.6, 0.0, -0.8], [0.0, 0.6, 0.8], [0.0, 0.0, 0.0], [0.0, 0.0, -1.0], [1.0, 0.0, 0.0], [r, r, r]]
+    got = cm._unit_rows(v)
+    assert got.dtype == np.float64 and got.shape == v.shape
+    assert np.abs(got - np.array(want)).max() < 1e-15
+
+
+def test_the_default_is_not_certified():
+    # certified defaults to False: with a centre (and half-edges) but no certificate, brute force.
+    pts, tri, fs = _ball_case(5, 1.0)
+    res = check_containment3d(pts, fs, tri, center=np.zeros(3), he=half_edges(fs, len(pts)))
+    assert res.method == "brute" and res.outside.tolist() == _exact_outside(pts, tri)
+    pts2, poly, edges = _ring_case(7, 1.0)
+    res = check_containment2d(pts2, poly, center=np.zeros(2))
+    assert res.method == "brute" and res.outside.tolist() == _exact_outside(pts2, edges)
+
+
+@pytest.mark.parametrize("patch", [{"_CHUNK": 3}, {"_CHUNK": 5000}, {"_CONE_CHUNK": 2}, {"_CONE_CHUNK": 7},
+                                   {"_WALK_STEPS": 0}, {"_WALK_STEPS": 1}])
+def test_chunk_sizes_and_walk_length_leave_the_answer_exact(monkeypatch, patch):
+    # Documented: brute force works in chunks, the cones in chunks of cone edges, and a
+    # point the walk does not locate falls back to brute force ("cones+brute").  Small
+    # chunks (one candidate, or one (point, facet) pair, at a time) and short walks must
+    # give the same exact answer.
+    for name, value in patch.items():
+        monkeypatch.setattr(cm, name, value)
+    pts, tri, fs = _ball_case(5, 1.0)
+    want = _exact_outside(pts, tri)
+    he = half_edges(fs, len(pts))
+    res = check_containment3d(pts, fs, tri, certified=True, center=np.zeros(3), he=he)
+    assert res.outside.tolist() == want and res.ok is False
+    if patch.get("_WALK_STEPS") == 0:
+        assert res.method == "cones+brute"  # some points are not in their first candidate's cone
+    else:
+        assert res.method.startswith("cones")
+    if patch.get("_CHUNK") == 3:
+        tet = np.vstack([_TET, _tet_probes(1.0)])  # 4 facets: chunks of max(1, 3 // 4) = 1 candidate
+        res = check_containment3d(tet, FaceSet.from_polygons(_TET_FACES), np.array(_TET_FACES))
+        assert res.outside.tolist() == [5, 7, 10, 13] and res.method == "brute"
+    elif "_CHUNK" in patch:  # 25 (3D) and 31 (2D) candidates at a time
+        res = check_containment3d(pts, fs, tri)
+        assert res.outside.tolist() == want and res.method == "brute"
+        pts2, poly, edges = _ring_case(7, 1.0)
+        res = check_containment2d(pts2, poly)
+        assert res.outside.tolist() == _exact_outside(pts2, edges) and res.method == "brute"
+
+
+# --------------------------------------------------------------------------- overflow in the float filter
+
+
+def _spike() -> tuple[np.ndarray, list[list[int]]]:
+    """A tetrahedron a, b, c, d whose face (a, b, c) has the normal (4, -2, -2) * 2**600, and
+    p = d / 2 on its edge a-d, where p . normal is (4 - 4 (1 + 2**-52)) * 2**1024: the
+    first term of that sum alone overflows (2**1024), the exact sum is -2**972.  The last
+    point, d * 2**-1400, also on the edge a-d, keeps the checker from rescaling the input
+    (scaled by 2**-424 it would underflow)."""
+    t = 2.0**300
+    a, b, c = np.zeros(3), np.array([1.0, 2.0, 0.0]) * t, np.array([1.0, 0.0, 2.0]) * t
+    p = np.array([2.0**422, 2.0**422 * (1 + 2.0**-52), 2.0**422 * (1 + 2.0**-52)])
+    d = 2 * p
+    pts = np.array([a, b, c, d, p, d * 2.0**-700 * 2.0**-700])
+    faces = [[0, 1, 2], [3, 1, 0], [0, 2, 3], [3, 2, 1]]
+    return pts, faces
+
+
+def _exact_sides(pts: np.ndarray, faces, i: int) -> list[int]:
+    out = []
+    for f in faces:
+        n = _exact_normal(*pts[f])
+        x, a = ([Fraction(float(v)) for v in pts[k]] for k in (i, f[0]))
+        h = sum(n[k] * (x[k] - a[k]) for k in range(3))
+        out.append((h > 0) - (h < 0))
+    return out
+
+
+def test_an_overflowed_float_distance_decides_nothing():
+    # Regression: the float filter took an s that overflowed to +inf (or -inf) for decided,
+    # though an intermediate overflow says nothing about the exact sign (here p . n has
+    # one term of 2**1024 and an exact value of -2**972; whether a dot product overflows
+    # depends on the order of its terms, so the old answer depended on the BLAS kernel and
+    # on how many candidates were in the chunk).  Now a non-finite s goes to the exact test.
+    pts, faces = _spike()
+    for i in range(len(pts)):  # every point on or below every face, exactly: nothing is outside
+        assert max(_exact_sides(pts, faces, i)) == 0
+    assert _exact_sides(pts, faces, 4) == [-1, 0, 0, -1]
+    tri = np.array(faces)
+    planes = [pts[tri[:, 0]], pts[tri[:, 1]], pts[tri[:, 2]]]
+    for candidates in ([4], [3], [3, 4], [0, 1, 2, 3, 4, 5], [4, 4, 4]):
+        got, worst = cm._brute(pts, planes, tri, np.array(candidates))
+        assert got.tolist() == [] and worst == 0.0, candidates
+    fs = FaceSet.from_polygons(faces)
+    for kwargs in ({}, {"certified": True, "center": pts[4] / 2, "he": half_edges(fs, len(pts))}):
+        res = check_containment3d(pts, fs, tri, **kwargs)
+        assert res.ok is True and res.outside.tolist() == []
+
+
+def test_the_overflow_regression_through_the_public_check():
+    from hullstress.checker import check
+
+    pts, faces = _spike()
+    v = check(pts, faces)
+    assert v.containment is True and "containment" not in v.failed_checks, v.detail

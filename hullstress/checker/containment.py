@@ -174,8 +174,6 @@ def _brute(
     n, offset, bound = _facet_bounds(planes, pmax)
     with np.errstate(all="ignore"):
         norm = np.sqrt(np.einsum("ij,ij->i", n, n))
-    with np.errstate(all="ignore"):
-        finite = np.isfinite(offset) & np.isfinite(bound) & np.isfinite(_row_sum(n))
     m = len(n)
     chunk = max(1, _CHUNK // max(m, 1))
     out = []
@@ -184,8 +182,13 @@ def _brute(
         idx = candidates[start : start + chunk]
         with np.errstate(all="ignore"):
             s = points[idx] @ n.T - offset
-        outside = (s > bound) & finite
-        gray = ~(s < -bound) & ~outside
+            # Decided in floats: a finite s beyond a finite bound.  An s that overflowed
+            # (inf, or NaN) decides nothing, as a term or a partial sum can overflow while
+            # the exact sum is small and of either sign; a facet whose normal, offset or
+            # bound is not finite has no finite s beyond its bound.
+            sure = np.isfinite(s) & (np.abs(s) > bound)
+        outside = sure & (s > 0)
+        gray = ~sure
         gi, gf = np.nonzero(gray)
         if gi.size:
             own = np.any(plane_idx[gf] == idx[gi][:, None], axis=1)  # a facet's own vertex is on it
@@ -265,8 +268,9 @@ def _in_cones(points, center, he: HalfEdges, faces: FaceSet, pts: np.ndarray, ca
         p = points[pts[part][rows]]
         with np.errstate(all="ignore"):
             s = np.einsum("ij,ij->i", normal[edge], p) - offset[edge]
-        bad = s < -bound[edge]
-        gray = np.flatnonzero(~bad & ~(s > bound[edge]))
+            sure = np.isfinite(s) & (np.abs(s) > bound[edge])  # an overflowed s decides nothing
+        bad = sure & (s < 0)
+        gray = np.flatnonzero(~sure)
         if gray.size:
             e = edge[gray]
             bad[gray] = orient3d(center, points[he.src[e]], points[he.dst[e]], p[gray]) > 0
