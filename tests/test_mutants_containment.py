@@ -53,7 +53,8 @@ def _exact_outside(points: np.ndarray, facets: np.ndarray, scale: float = 1.0) -
     Fractions.
     """
     pts = np.asarray(points, dtype=np.float64)
-    unit = pts / scale  # exact for a power of two (checked below, point by point)
+    with np.errstate(over="ignore"):
+        unit = pts / scale  # exact for a power of two where finite (checked below, point by point)
     for k in range(facets.shape[1]):
         c = unit[facets[:, k]]
         assert np.array_equal(c, np.round(c)) and np.array_equal(c * scale, pts[facets[:, k]])
@@ -69,7 +70,7 @@ def _exact_outside(points: np.ndarray, facets: np.ndarray, scale: float = 1.0) -
             n = [corner[1][1] - a[1], a[0] - corner[1][0]]
         normals.append((n, sum(x * y for x, y in zip(n, a))))
     out = np.zeros(len(pts), dtype=bool)
-    whole = np.all(unit == np.round(unit), axis=1) & np.all(np.abs(unit) < 2**20, axis=1)
+    whole = np.all(np.abs(unit) < 2**20, axis=1) & np.all(unit == np.round(unit), axis=1)
     whole &= np.all(pts == unit * scale, axis=1)
     if max(abs(x) for c in corners for row in c for x in row) < 2**12:
         n = np.array([r for r, _ in normals], dtype=np.int64)
@@ -106,7 +107,7 @@ def _tet_probes(s: float) -> np.ndarray:
     ])
 
 
-@pytest.mark.parametrize("scale", SCALES)
+@pytest.mark.parametrize("scale", [*SCALES, 2.0**40])
 def test_brute_tetrahedron_on_and_one_ulp_from_its_faces(scale):
     pts = np.vstack([_TET * scale, _tet_probes(scale)])
     fs = FaceSet.from_polygons(_TET_FACES)
@@ -201,11 +202,13 @@ def test_cones_on_a_ball_surface_against_integers(scale, k):
     assert res.outside.dtype == np.int64
 
 
-def test_brute_on_a_ball_surface_against_integers():
+@pytest.mark.parametrize("scale", [1.0, 2.0**40])
+def test_brute_on_a_ball_surface_against_integers(scale):
     # Not certified, or no centre: brute force (at the extreme scales nearly every entry
-    # goes to the exact predicate, so the unit scale only; the tetrahedron covers those).
-    pts, tri, fs = _ball_case(5, 1.0)
-    want = _exact_outside(pts, tri)
+    # goes to the exact predicate, so not those; the tetrahedron covers them).  At 2**40
+    # the normals are about 2**90: the bound grows with them.
+    pts, tri, fs = _ball_case(5, scale)
+    want = _exact_outside(pts, tri, scale)
     he = half_edges(fs, len(pts))
     for kwargs in ({"certified": False, "center": np.zeros(3), "he": he}, {"certified": True, "he": he}, {}):
         res = check_containment3d(pts, fs, tri, **kwargs)
@@ -687,3 +690,86 @@ def test_the_overflow_regression_through_the_public_check():
     pts, faces = _spike()
     v = check(pts, faces)
     assert v.containment is True and "containment" not in v.failed_checks, v.detail
+
+
+def test_row_max_and_row_sum():
+    # "Largest entry of each row" and "Sum of each row, left to right", for the 2- and
+    # 3-column arrays the module uses (small integers: every sum is exact).
+    v = np.array([[5.0, -1.0, 2.0], [-3.0, 7.0, 1.0], [0.0, -2.0, 9.0], [-4.0, -6.0, -5.0]])
+    assert cm._row_max(v).tolist() == [5.0, 7.0, 9.0, -4.0]
+    assert cm._row_sum(v).tolist() == [6.0, 5.0, 7.0, -15.0]
+    assert cm._row_max(v[:, 1:]).tolist() == [2.0, 7.0, 9.0, -5.0]
+    assert cm._row_sum(v[:, 1:]).tolist() == [1.0, 8.0, 7.0, -11.0]
+    assert v.tolist()[0] == [5.0, -1.0, 2.0]  # the input is left alone
+
+
+# --------------------------------------------------------------------------- the float filter's bound, at its edges
+
+
+def _both_sides(b, c, probes) -> tuple[np.ndarray, FaceSet, np.ndarray]:
+    """Points 0, b, c and ``probes``; the facets (0, b, c) and (0, c, b): every point off
+    their common plane is outside one of them, every point on it outside neither."""
+    pts = np.vstack([np.zeros(3), b, c, probes])
+    tri = np.array([[0, 1, 2], [0, 2, 1]])
+    return pts, FaceSet.from_polygons(tri.tolist()), tri
+
+
+def test_a_sliver_whose_float_normal_points_the_wrong_way():
+    # _SLIVER faces +x exactly, but its float normal points to -x: every point with x > 0
+    # is exactly outside it, though its float distance says inside.  The normal's
+    # rounding error (the bound's 8 eps term of the cross product's two products) is what
+    # sends them to the exact test.
+    sliver = np.array(_SLIVER)
+    probes = np.array([[1.0, 0.0, 0.0], [2.0**-30, 5.0, -7.0], [3.0, -1e5, 2e4], [0.0, 9.0, 9.0], [-1.0, 0.0, 0.0]])
+    pts, fs, tri = _both_sides(sliver[1] - sliver[0], sliver[2] - sliver[0], probes)
+    pts[:3] = sliver
+    one = tri[:1]
+    want = [3, 4, 5]  # x > 0: outside the sliver (exact normal +x)
+    assert _exact_normal(*sliver)[0] > 0 and _exact_normal(*sliver)[1:] == [0, 0]
+    assert cm._brute(pts, [pts[one[:, 0]], pts[one[:, 1]], pts[one[:, 2]]], one, np.arange(3, 8))[0].tolist() == want
+    res = check_containment3d(pts, FaceSet.from_polygons(one.tolist()), one)
+    assert res.outside.tolist() == want and res.method == "brute"
+    # With the sliver reversed too, every point off the plane x = 0 is outside.
+    assert check_containment3d(pts, fs, tri).outside.tolist() == [3, 4, 5, 7]
+
+
+def test_facets_whose_float_normal_underflows():
+    # A facet 2**-600 across at the origin: its normal (2**-1200) underflows to 0, so every
+    # float distance is 0; with a point at distance 1 in the same check, the bound must
+    # still send them all to the exact test.
+    t = 2.0**-600
+    probes = np.array([[0.0, 0.0, 1.0], [0.0, 0.0, -1.0], [5.0, 3.0, 2.0**-1074], [3.0, 3.0, 0.0], [t, t, -t]])
+    pts = np.vstack([[[0.0, 0.0, 0.0], [t, 0.0, 0.0], [0.0, t, 0.0]], probes])
+    tri = np.array([[0, 1, 2]])  # faces +z
+    assert _exact_outside(pts, tri, t) == [3, 5]  # z > 0
+    assert check_containment3d(pts, FaceSet.from_polygons([[0, 1, 2]]), tri).outside.tolist() == [3, 5]
+    # 2D: an edge 3 * 2**-1074 long (a subnormal normal); its float distances underflow.
+    e = 3 * 5e-324
+    pts2 = np.array([[0.0, 0.0], [e, 0.0], [0.0, -(2.0**-60)], [0.0, 2.0**-60], [5.0, 0.0], [0.0, -1.0]])
+    edges = np.array([[0, 1], [1, 0]])
+    assert _exact_outside(pts2, edges, 5e-324) == [2, 3, 5]
+    assert check_containment2d(pts2, np.array([0, 1])).outside.tolist() == [2, 3, 5]
+
+
+# Found by a search, kept for their digits: b and c with full 53-bit mantissas.
+_SUB_B = [1.6802073719816204e-162, 2.1677051232807388e-162, -1.271595394990012e-162]
+_SUB_C = [-1.581855658913659e-162, 2.0312709659354787e-162, 1.5661548550656842e-162]
+_UNDER_B = [-1.6747424035743034e-23, -1.4074176334134587e-23, 1.4959583080265745e-23]
+_UNDER_C = [1.382523170789076e-23, 2.0437724330939907e-23, -1.7567838663841722e-23]
+
+
+@pytest.mark.parametrize(("b", "c", "powers"), [(_SUB_B, _SUB_C, [600, 650, 690, 700, 720]),
+                                                (_UNDER_B, _UNDER_C, [-825, -830, -840, -850])])
+def test_points_on_a_facet_plane_where_the_products_lose_their_digits(b, c, powers):
+    # Points 2**k b and 2**k c lie exactly on the plane through the origin, b and c (a
+    # power of two scales exactly), so neither of the two opposite facets has them outside.
+    # First b and c about 2**-537 (the normal, about 2**-1074, is a subnormal with a few
+    # digits) and the points about 2**150 away; then b and c about 2**-75 and the points
+    # about 2**-900 (their products with the normal are subnormals).  The float distances
+    # are a few units of the last subnormal digit times the points' size, not 0: only the
+    # absolute terms of the bound (2**-1000) send them to the exact test.
+    b, c = np.array(b), np.array(c)
+    probes = np.array([x * 2.0**k for k in powers for x in (b, c)])
+    pts, fs, tri = _both_sides(b, c, probes)
+    res = check_containment3d(pts, fs, tri)
+    assert res.outside.tolist() == [] and res.ok is True

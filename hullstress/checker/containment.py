@@ -136,9 +136,7 @@ def _distinct_planes(planes: list[np.ndarray]) -> np.ndarray:
     rep = np.empty(len(counts), dtype=np.int64)
     rep[group[order[first]]] = order[first]
     r = rep[group]
-    member = np.flatnonzero(r != np.arange(m))
-    if not member.size:
-        return np.arange(m)
+    member = np.flatnonzero(r != np.arange(m))  # not empty: some group has two facets
     ra, rb, rc = a[r[member]], b[r[member]], c[r[member]]
     on = np.ones(len(member), dtype=bool)
     for x in (a, b, c):
