@@ -773,3 +773,25 @@ def test_points_on_a_facet_plane_where_the_products_lose_their_digits(b, c, powe
     pts, fs, tri = _both_sides(b, c, probes)
     res = check_containment3d(pts, fs, tri)
     assert res.outside.tolist() == [] and res.ok is True
+    # The probes alone (pmax is then theirs, not the facet's).
+    got, _ = cm._brute(pts, [pts[tri[:, 0]], pts[tri[:, 1]], pts[tri[:, 2]]], tri, np.arange(3, len(pts)))
+    assert got.tolist() == []
+
+
+@pytest.mark.parametrize("scale", [1.0, 2.0**40])
+def test_a_facet_collinear_up_to_rounding(scale):
+    # b and c were computed in floats as a + 1000 d and a + 8.71 d (d a direction), so the
+    # facet is collinear up to their rounding: its exact normal is tiny, and the rounding
+    # errors of the float cross product, about eps times the products of the edge
+    # vectors' components, decide the float normal's direction.  The bound's term for them (8 eps times those products)
+    # sends every point near the facet to the exact test; the signs below are exact.
+    a = [-0.8783945740838879, 0.11119223384144683, -0.45709679093979694]
+    b = [758.4239520957603, -871.4599331417766, 357.90596925179017]
+    c = [5.73807205269756, -7.4835706286808, 2.6656345915483257]
+    probes = [[-0.138, -0.315, -0.251], [-0.323, 0.543, 0.374], [-0.309, -0.258, -0.046], [-0.313, 1.087, 0.515],
+              [-0.113, 0.937, -0.041], [-1.138, 0.323, -0.502], [-0.278, -0.45, -0.011], [-1.729, -0.874, -1.098]]
+    pts = np.array([a, b, c, *probes]) * scale  # 2**40: the products of the edge vectors near 2**93
+    want = [i for i in range(3, len(pts)) if _exact_sides(pts, [[0, 1, 2]], i) == [1]]
+    assert 0 < len(want) < len(probes)
+    tri = np.array([[0, 1, 2]])
+    assert check_containment3d(pts, FaceSet.from_polygons([[0, 1, 2]]), tri).outside.tolist() == want
