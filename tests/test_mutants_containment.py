@@ -99,11 +99,12 @@ _TET_FACES = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]  # outward (counter-cl
 
 def _tet_probes(s: float) -> np.ndarray:
     """Points exactly on the oblique face x + y + z = 4 s, one ulp inside and one ulp outside it,
-    and on / one ulp (a subnormal) beyond the face y = 0."""
+    on / one ulp (a subnormal) beyond the face y = 0, and s / 32 beyond the oblique face (its
+    float distance, 16 s**2 (x + y + z) - 64 s**3, is then s**3 / 2: at unit scale below 1)."""
     return np.array([
         [s, s, 2 * s], [s, s, _up(2 * s)], [s, s, _down(2 * s)],
         [_up(s), s, 2 * s], [s, 0.0, s], [s, -0.0, s], [s, _down(0.0), s],
-        [s, s, s], [2 * s, 2 * s, 0.0], [_up(2 * s), 2 * s, 0.0],
+        [s, s, s], [2 * s, 2 * s, 0.0], [_up(2 * s), 2 * s, 0.0], [s, s, 2 * s + s / 32],
     ])
 
 
@@ -113,12 +114,18 @@ def test_brute_tetrahedron_on_and_one_ulp_from_its_faces(scale):
     fs = FaceSet.from_polygons(_TET_FACES)
     plane = np.array(_TET_FACES, dtype=np.int64)
     want = _exact_outside(pts, plane, scale)
-    # By hand: the ulp beyond x + y + z = 4 (rows 5, 7, 13) and below y = 0 (row 10).
-    assert want == [5, 7, 10, 13]
+    # By hand: the ulp beyond x + y + z = 4 (rows 5, 7, 13), below y = 0 (row 10), and s / 32 beyond (14).
+    assert want == [5, 7, 10, 13, 14]
     res = check_containment3d(pts, fs, plane)
     assert res.outside.tolist() == want and not res.ok and res.method == "brute"
-    # The magnitude is a float report, within rounding of 0 here (never inf or NaN).
-    assert 0.0 <= res.magnitude < 1e-15 * scale
+    # The magnitude, the largest distance outside, is row 14's: (s / 32) / sqrt(3).  It is
+    # a float report: where the float distances underflow (2**-1000) or overflow (2**1000)
+    # it is less, down to 0, but never inf or NaN.
+    top = scale / 32 / math.sqrt(3)
+    if scale in (1.0, 2.0**40):
+        assert res.magnitude == pytest.approx(top, rel=1e-12)
+    else:
+        assert 0.0 <= res.magnitude <= top
 
 
 # --------------------------------------------------------------------------- a convex ball surface, both strategies
@@ -157,8 +164,9 @@ def _ball_probes(shell: np.ndarray, tri: np.ndarray, seed: int) -> np.ndarray:
     and outside, facet centroids and edge midpoints (exactly on the surface), the centroids
     one ulp beyond and one ulp within their facet along the normal's largest component,
     corners one ulp off along each axis (beyond some facets of the corner, within others),
-    edge midpoints scaled by 3 (outside, exactly on the plane of a cone), the corners'
-    coordinates again under other indices, and points far outside."""
+    edge midpoints scaled by 3 (outside, exactly on the plane of a cone) and some of them
+    2**-17 off it (a float distance to that plane below 1), the corners' coordinates again
+    under other indices, and points far outside."""
     rng = np.random.default_rng(seed)
     a, b, c = shell[tri[:, 0]], shell[tri[:, 1]], shell[tri[:, 2]]
     n = np.cross(b - a, c - a)
@@ -176,9 +184,10 @@ def _ball_probes(shell: np.ndarray, tri: np.ndarray, seed: int) -> np.ndarray:
                 p = v.copy()
                 p[k] = step(p[k])
                 nudged.append(p)
+    ray = (a + b)[::5] // 2 * 3  # on the plane of the cone through the edge (a, b)
     return np.vstack([
-        rng.integers(-300, 301, size=(120, 3)), centroid, (a + b) // 2, np.array(nudged), (a + b)[::5] // 2 * 3,
-        shell[::7], shell[::9] * 5, [[0, 0, 0], [0, 0, 1]],
+        rng.integers(-300, 301, size=(120, 3)), centroid, (a + b) // 2, np.array(nudged), ray,
+        ray[::2] + [2.0**-17, 0.0, 0.0], shell[::7], shell[::9] * 5, [[0, 0, 0], [0, 0, 1]],
     ]).astype(np.float64)
 
 
@@ -626,7 +635,7 @@ def test_chunk_sizes_and_walk_length_leave_the_answer_exact(monkeypatch, patch):
     if patch.get("_CHUNK") == 3:
         tet = np.vstack([_TET, _tet_probes(1.0)])  # 4 facets: chunks of max(1, 3 // 4) = 1 candidate
         res = check_containment3d(tet, FaceSet.from_polygons(_TET_FACES), np.array(_TET_FACES))
-        assert res.outside.tolist() == [5, 7, 10, 13] and res.method == "brute"
+        assert res.outside.tolist() == [5, 7, 10, 13, 14] and res.method == "brute"
     elif "_CHUNK" in patch:  # 25 (3D) and 31 (2D) candidates at a time
         res = check_containment3d(pts, fs, tri)
         assert res.outside.tolist() == want and res.method == "brute"
