@@ -117,7 +117,7 @@ def test_brute_tetrahedron_on_and_one_ulp_from_its_faces(scale):
     # By hand: the ulp beyond x + y + z = 4 (rows 5, 7, 13), below y = 0 (row 10), and s / 32 beyond (14).
     assert want == [5, 7, 10, 13, 14]
     res = check_containment3d(pts, fs, plane)
-    assert res.outside.tolist() == want and not res.ok and res.method == "brute"
+    assert res.outside.tolist() == want and res.ok is False and res.method == "brute"
     # The magnitude, the largest distance outside, is row 14's: (s / 32) / sqrt(3).  It is
     # a float report: where the float distances underflow (2**-1000) or overflow (2**1000)
     # it is less, down to 0, but never inf or NaN.
@@ -804,3 +804,116 @@ def test_a_facet_collinear_up_to_rounding(scale):
     assert 0 < len(want) < len(probes)
     tri = np.array([[0, 1, 2]])
     assert check_containment3d(pts, FaceSet.from_polygons([[0, 1, 2]]), tri).outside.tolist() == want
+
+
+# --------------------------------------------------------------------------- which strategy, and what is skipped
+
+
+def test_cones_near_the_top_of_the_double_range():
+    # At 2**1015 the corners reach 1.05e308: the sum of a facet's three corners (for its
+    # direction from the centre) overflows, and the float filter decides nothing; the
+    # answer is still exact, and no overflow warning escapes.
+    shell, tri = _ball_surface()
+    probes = _ball_probes(shell, tri, 5)
+    scale = 2.0**1015
+    pts = np.vstack([shell, probes[np.abs(probes).max(axis=1) <= 300]]).astype(np.float64) * scale
+    fs = FaceSet.from_polygons(tri.tolist())
+    want = _exact_outside(pts, tri, scale)
+    assert len(want) > 50 and len(pts) * len(tri) > cm._SMALL
+    res = check_containment3d(pts, fs, tri, certified=True, center=np.zeros(3), he=half_edges(fs, len(pts)))
+    assert res.outside.tolist() == want and res.method.startswith("cones")
+
+
+def test_cones_around_a_centre_off_the_origin():
+    # The same surfaces moved by an integer offset, the centre with them.
+    shift = np.array([1000, -2000, 500])
+    pts, tri, fs = _ball_case(5, 1.0)
+    pts = pts + shift
+    want = _exact_outside(pts, tri)
+    for k in (1, 3):
+        res = check_containment3d(pts, fs, tri, certified=True, center=shift.astype(np.float64),
+                                  he=half_edges(fs, len(pts)), k=k)
+        assert res.outside.tolist() == want and res.method == "cones"
+    pts2, poly, edges = _ring_case(7, 1.0)
+    pts2 = pts2 + shift[:2]
+    res = check_containment2d(pts2, poly, certified=True, center=shift[:2].astype(np.float64))
+    assert res.outside.tolist() == _exact_outside(pts2, edges) and res.method == "cones"
+
+
+def test_small_inputs_use_brute_force_even_when_certified():
+    # "Below this many point-facet entries, brute force": a certified tetrahedron with its
+    # centre and half-edges, and a certified square.  Its own corners are skipped there
+    # (they lie on the certified surface), the other points decided exactly.
+    pts = np.vstack([_TET, _tet_probes(1.0)])
+    fs = FaceSet.from_polygons(_TET_FACES)
+    tri = np.array(_TET_FACES)
+    he = half_edges(fs, len(pts))
+    res = check_containment3d(pts, fs, tri, certified=True, center=np.array([1.0, 1.0, 1.0]), he=he)
+    assert res.outside.tolist() == [5, 7, 10, 13, 14] and res.ok is False and res.method == "brute"
+    inside = pts[[0, 1, 2, 3, 4, 6, 11]]  # the corners, a point on a face, one ulp within it, the centre
+    res = check_containment3d(inside, fs, tri, certified=True, center=np.array([1.0, 1.0, 1.0]), he=he)
+    assert res.outside.tolist() == [] and res.ok is True and res.method == "brute" and res.magnitude == 0.0
+    assert res.outside.dtype == np.int64
+    square = np.array([[0.0, 0.0], [4.0, 0.0], [4.0, 4.0], [0.0, 4.0], [2.0, 2.0], [4.0, 1.0], [_up(4.0), 1.0]])
+    res = check_containment2d(square, np.arange(4), certified=True, center=np.array([2.0, 2.0]))
+    assert res.outside.tolist() == [6] and res.ok is False and res.method == "brute"
+    res = check_containment2d(square[:6], np.arange(4), certified=True, center=np.array([2.0, 2.0]))
+    assert res.outside.tolist() == [] and res.ok is True and res.method == "brute" and res.outside.dtype == np.int64
+
+
+def test_the_corners_of_an_uncertified_surface_are_checked():
+    # Only a certified surface's own corners may be skipped: here corner 4 is a corner of
+    # the extra facet (4, 1, 2) and lies beyond the face x + y + z = 4, so it is outside,
+    # centre or not.
+    pts = np.vstack([_TET, [[3.0, 3.0, 3.0]]])
+    faces = _TET_FACES + [[4, 1, 2]]
+    fs = FaceSet.from_polygons(faces)
+    tri = np.array(faces)
+    assert _exact_outside(pts, tri) == [4]
+    for kwargs in ({}, {"center": np.array([0.5, 0.5, 0.5])}, {"certified": False, "center": np.array([0.5, 0.5, 0.5])}):
+        res = check_containment3d(pts, fs, tri, **kwargs)
+        assert res.outside.tolist() == [4] and res.method == "brute", kwargs
+    # 2D: the polygon (0, 0), (4, 0), (4, 4), (2, 1), (0, 4) has a dent at (2, 1); by hand,
+    # corners 0 and 4 are right of the line from (4, 4) to (2, 1), corners 1 and 2 right of
+    # the line from (2, 1) to (0, 4).
+    poly2 = np.array([[0.0, 0.0], [4.0, 0.0], [4.0, 4.0], [2.0, 1.0], [0.0, 4.0]])
+    ring = np.arange(5)
+    assert _exact_outside(poly2, np.stack([ring, np.roll(ring, -1)], axis=1)) == [0, 1, 2, 4]
+    for kwargs in ({}, {"center": np.array([1.0, 0.5])}, {"certified": False, "center": np.array([1.0, 0.5])}):
+        res = check_containment2d(poly2, ring, **kwargs)
+        assert res.outside.tolist() == [0, 1, 2, 4] and res.method == "brute", kwargs
+
+
+def test_degenerate_faces_and_zero_length_edges_are_skipped():
+    # Documented: a face without a plane (a -1 row) is skipped, and so is a zero-length
+    # edge; the other facets still decide.  Here the tetrahedron has an extra degenerate face.
+    pts = np.vstack([_TET, _tet_probes(1.0)])
+    faces = _TET_FACES + [[0, 0, 1]]
+    plane = np.vstack([np.array(_TET_FACES), [[-1, -1, -1]]])
+    res = check_containment3d(pts, FaceSet.from_polygons(faces), plane)
+    assert res.outside.tolist() == [5, 7, 10, 13, 14] and res.method == "brute"
+    # 2D: a square whose corner 1 appears twice (indices 1 and 4 have its coordinates), with
+    # a point just outside each of its four axis-aligned edges, and one inside.
+    square = np.array([[0.0, 0.0], [4.0, 0.0], [4.0, 4.0], [0.0, 4.0], [4.0, 0.0],
+                       [2.0, -1.0], [5.0, 2.0], [2.0, 4.5], [-0.5, 2.0], [2.0, 2.0]])
+    poly = np.array([0, 1, 4, 2, 3])  # 1 -> 4 has length 0
+    res = check_containment2d(square, poly)
+    assert res.outside.tolist() == [5, 6, 7, 8] and res.method == "brute"
+    # Only a zero-length edge: no edge at all, nothing outside.
+    res = check_containment2d(square, np.array([1, 4]))
+    assert res.outside.tolist() == [] and res.ok is True
+
+
+def test_a_certified_triangle_uses_the_angular_search(monkeypatch):
+    # Three edges are enough for the angular search (the threshold lowered, so that a small
+    # input takes it); an uncertified one is brute force.
+    monkeypatch.setattr(cm, "_SMALL", 0)
+    tri = np.array([[0.0, 0.0], [8.0, 0.0], [0.0, 8.0], [1.0, 1.0], [4.0, 4.0], [_up(4.0), 4.0], [9.0, -1.0],
+                    [-1.0, 9.0], [2.0, 0.5], [0.5, 2.0], [8.0, 8.0]])
+    poly = np.arange(3)
+    want = _exact_outside(tri, np.stack([poly, np.roll(poly, -1)], axis=1))
+    assert want == [5, 6, 7, 10]
+    res = check_containment2d(tri, poly, certified=True, center=np.array([2.0, 2.0]))
+    assert res.outside.tolist() == want and res.method == "cones"
+    res = check_containment2d(tri, poly, certified=False, center=np.array([2.0, 2.0]))
+    assert res.outside.tolist() == want and res.method == "brute"
