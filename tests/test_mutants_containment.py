@@ -838,6 +838,10 @@ def test_cones_around_a_centre_off_the_origin():
     pts2 = pts2 + shift[:2]
     res = check_containment2d(pts2, poly, certified=True, center=shift[:2].astype(np.float64))
     assert res.outside.tolist() == _exact_outside(pts2, edges) and res.method == "cones"
+    # The polygon listed from other corners (the first no longer the one of least angle).
+    for start in (1, 40, 100):
+        res = check_containment2d(pts2, np.roll(poly, -start), certified=True, center=shift[:2].astype(np.float64))
+        assert res.outside.tolist() == _exact_outside(pts2, edges) and res.method == "cones", start
 
 
 def test_small_inputs_use_brute_force_even_when_certified():
@@ -917,3 +921,28 @@ def test_a_certified_triangle_uses_the_angular_search(monkeypatch):
     assert res.outside.tolist() == want and res.method == "cones"
     res = check_containment2d(tri, poly, certified=False, center=np.array([2.0, 2.0]))
     assert res.outside.tolist() == want and res.method == "brute"
+
+
+def test_angular_search_takes_two_steps_back_where_three_corner_angles_collide():
+    # As above with five corners at x ~ -2**60, |y| <= 2: three share the float angle pi,
+    # two share -pi, so the guess for a point near them is off by up to two edges, which
+    # the search's steps (0, -1, 1, -2, 2) still reach: no fallback (method "cones").
+    big = 2**60
+    corners = [(-big + 512 * y * y, y) for y in range(2, -3, -1)] + [(big, -(2**48)), (big, 2**48)]
+    hull = [tuple(int(v) for v in p) for p in _ccw_hull(np.array(corners, dtype=object))]
+    assert sorted(hull) == sorted(corners)  # strictly convex
+    ring = np.array(corners, dtype=np.float64)
+    assert np.arctan2(ring[:5, 1], ring[:5, 0]).tolist() == [math.pi] * 3 + [-math.pi] * 2
+    probes = []
+    for i in range(4):  # the edges between the five corners
+        (x0, y0), (x1, y1) = corners[i], corners[i + 1]
+        mx, my = float((x0 + x1) // 2), (y0 + y1) / 2
+        probes += [(mx, my), (mx, _up(my)), (mx, _down(my)), (mx, my + 0.25), (mx, my - 0.25)]
+    deep = np.random.default_rng(12).integers(-(2**40), 2**40, size=(7200, 2))
+    pts = np.vstack([ring, np.array(probes), deep.astype(np.float64)])
+    poly = np.arange(len(ring))
+    want = _exact_outside(pts, np.stack([poly, np.roll(poly, -1)], axis=1))
+    assert want == [7 + 5 * i + j for i in range(4) for j in ((1, 3) if i < 2 else (2, 4))]
+    assert len(pts) * len(poly) > cm._SMALL
+    res = check_containment2d(pts, poly, certified=True, center=np.zeros(2))
+    assert res.outside.tolist() == want and res.method == "cones"
