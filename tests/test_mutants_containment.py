@@ -822,6 +822,16 @@ def test_cones_near_the_top_of_the_double_range():
     assert len(want) > 50 and len(pts) * len(tri) > cm._SMALL
     res = check_containment3d(pts, fs, tri, certified=True, center=np.zeros(3), he=half_edges(fs, len(pts)))
     assert res.outside.tolist() == want and res.method.startswith("cones")
+    # At 2**1016, with the centre at x = -216 * 2**1016 (inside: the inscribed radius is
+    # about 230 * 2**1016), the offsets of the points on the far side overflow.
+    scale = 2.0**1016
+    pts = np.vstack([shell, probes[np.abs(probes).max(axis=1) <= 255]]).astype(np.float64) * scale
+    centre = np.array([-216.0, 0.0, 0.0]) * scale
+    want = _exact_outside(pts, tri, scale)
+    assert _exact_outside(np.vstack([pts, centre]), tri, scale) == want  # the centre is not outside
+    assert len(want) > 50 and float(pts[:, 0].max()) - float(centre[0]) == math.inf
+    res = check_containment3d(pts, fs, tri, certified=True, center=centre, he=half_edges(fs, len(pts)))
+    assert res.outside.tolist() == want and res.method.startswith("cones")
 
 
 def test_cones_around_a_centre_off_the_origin():
