@@ -538,9 +538,10 @@ def test_every_point_deep_or_a_corner_returns_the_empty_answer():
     # One point inside the surface but outside the ball: the same answer through the cones.
     pts[-1] = [0.0, 0.0, 233.0]  # the ball's radius is about 230.4, the surface is at z = 235.1 there
     assert _exact_outside(pts, tri) == []
-    res = check_containment3d(pts, fs, tri, certified=True, center=np.zeros(3), he=he)
-    assert res.ok is True and res.method == "cones" and res.magnitude == 0.0
-    assert res.outside.dtype == np.int64 and res.outside.shape == (0,)
+    for k in (1, 3):  # with three candidates, the candidate rounds end once every point is located
+        res = check_containment3d(pts, fs, tri, certified=True, center=np.zeros(3), he=he, k=k)
+        assert res.ok is True and res.method == "cones" and res.magnitude == 0.0
+        assert res.outside.dtype == np.int64 and res.outside.shape == (0,)
     # 2D: the ring's corners and points near its centre.
     ring = _ring(160, 400)
     pts2 = np.vstack([ring, rng.integers(-200, 201, size=(400, 2))]).astype(np.float64)
@@ -956,3 +957,86 @@ def test_angular_search_takes_two_steps_back_where_three_corner_angles_collide()
     assert len(pts) * len(poly) > cm._SMALL
     res = check_containment2d(pts, poly, certified=True, center=np.zeros(2))
     assert res.outside.tolist() == want and res.method == "cones"
+
+
+def _centroid_rays(shift) -> tuple[np.ndarray, np.ndarray, FaceSet]:
+    """The ball surface moved by ``shift``, its corners, and for every facet the point
+    centre + 3 (centroid - centre): outside, on the ray from the centre through the facet's
+    centroid (strictly inside that facet's cone, and in the direction of its own centroid)."""
+    shell, tri = _ball_surface()
+    a, b, c = shell[tri[:, 0]], shell[tri[:, 1]], shell[tri[:, 2]]
+    rays = (a + b + c) // 3 * 3  # the centroids are integers (the corners are multiples of 6)
+    pts = (np.vstack([shell, rays]) + shift).astype(np.float64)
+    return pts, tri, FaceSet.from_polygons(tri.tolist())
+
+
+@pytest.mark.parametrize("shift", [(0, 0, 0), (1000, -2000, 500)])
+def test_points_on_their_facets_centroid_ray_need_no_walk(monkeypatch, shift):
+    # Each probe's direction from the centre is its own facet's centroid direction, so the
+    # k-d tree's first candidate is that facet and its cone contains the probe: with the
+    # walk switched off, every point is still located by the candidates (method "cones").
+    monkeypatch.setattr(cm, "_WALK_STEPS", 0)
+    pts, tri, fs = _centroid_rays(shift)
+    want = list(range(100, len(pts)))
+    assert _exact_outside(pts, tri) == want and len(pts) * len(tri) > cm._SMALL
+    res = check_containment3d(pts, fs, tri, certified=True, center=np.array(shift, dtype=np.float64),
+                              he=half_edges(fs, len(pts)))
+    assert res.outside.tolist() == want and res.method == "cones"
+
+
+def test_points_in_the_inscribed_ball_need_no_cone(monkeypatch):
+    # Points within the inscribed ball are settled at once, wherever their direction
+    # points: with the walk switched off, the centroid-ray probes and a hundred points near
+    # the centre, in all directions, give the method "cones" (no fallback).
+    monkeypatch.setattr(cm, "_WALK_STEPS", 0)
+    pts, tri, fs = _centroid_rays((0, 0, 0))
+    rng = np.random.default_rng(4)
+    d = rng.normal(size=(100, 3))
+    near = d / np.linalg.norm(d, axis=1)[:, None] * rng.uniform(20, 150, size=(100, 1))
+    pts = np.vstack([pts, near])
+    want = list(range(100, 100 + len(tri)))
+    assert _exact_outside(pts, tri) == want  # the near points are inside (radius < 230)
+    res = check_containment3d(pts, fs, tri, certified=True, center=np.zeros(3), he=half_edges(fs, len(pts)))
+    assert res.outside.tolist() == want and res.method == "cones"
+
+
+def test_in_cones_reports_a_separating_half_edge_or_minus_one():
+    # Documented: per (point, face) pair, whether the point is in the face's closed cone,
+    # and one half-edge whose plane separates it from the cone (-1 when inside).
+    pts, tri, fs = _centroid_rays((0, 0, 0))
+    he = half_edges(fs, len(pts))
+    cones = cm._cone_planes(pts, np.zeros(3), he, float(np.abs(pts).max()))
+    probes = np.arange(100, len(pts))
+    own = probes - 100  # each probe's own facet: inside its cone
+    other = (own + 1) % len(tri)  # another facet: outside its cone
+    for cand, inside_want in ((own, True), (other, False)):
+        inside, exit_edge = cm._in_cones(pts, np.zeros(3), he, fs, probes, cand, cones)
+        assert inside.tolist() == [inside_want] * len(probes)
+        if inside_want:
+            assert exit_edge.tolist() == [-1] * len(probes)
+        else:
+            assert (he.face[exit_edge] == cand).all()  # a half-edge of the candidate face
+            # The probe is strictly on the outer side of its cone plane (centre, src, dst):
+            # below that oriented plane, as the cone's inside is above it, exactly.
+            for e, q in zip(exit_edge.tolist(), probes.tolist()):
+                assert _exact_sides(np.vstack([pts, np.zeros(3)]), [[len(pts), he.src[e], he.dst[e]]], q) == [-1]
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_brute_force_up_to_small_entries(monkeypatch, dim):
+    # _SMALL is documented as the most point-facet entries brute force takes: at exactly that
+    # many, brute force; at one more, the cones (the threshold lowered to this input's size).
+    if dim == 3:
+        pts = np.vstack([_TET, _tet_probes(1.0)])
+        fs = FaceSet.from_polygons(_TET_FACES)
+        kwargs = {"certified": True, "center": np.array([1.0, 1.0, 1.0]), "he": half_edges(fs, len(pts))}
+        run = lambda: check_containment3d(pts, fs, np.array(_TET_FACES), **kwargs)  # noqa: E731
+        entries, want = len(pts) * 4, [5, 7, 10, 13, 14]
+    else:
+        pts = np.array([[0.0, 0.0], [4.0, 0.0], [4.0, 4.0], [0.0, 4.0], [2.0, 2.0], [4.0, 1.0], [_up(4.0), 1.0]])
+        run = lambda: check_containment2d(pts, np.arange(4), certified=True, center=np.array([2.0, 2.0]))  # noqa: E731
+        entries, want = len(pts) * 4, [6]
+    for small, method in ((entries, "brute"), (entries - 1, "cones")):
+        monkeypatch.setattr(cm, "_SMALL", small)
+        res = run()
+        assert res.outside.tolist() == want and res.method == method, small
