@@ -277,7 +277,7 @@ def _terraces(levels, size: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _plane_of(pts: np.ndarray, t) -> tuple:
-    """A facet's oriented plane exactly: its primitive integer normal and offset (a Fraction)."""
+    """A facet's oriented plane exactly: its normal scaled to a largest component of magnitude 1, and its offset (Fractions)."""
     a, b, c = ([Fraction(float(x)) for x in pts[i]] for i in t)
     n = _exact_normal(a, b, c)
     g = max(abs(x) for x in n)
@@ -294,7 +294,7 @@ def test_distinct_planes_keeps_one_facet_of_each_lattice_plane():
     # Documented: coplanar facets with the same orientation bound the same half-space,
     # one of each group suffices, and on a lattice every member is confirmed exactly.
     # (The float keys of one plane are bit-identical here: the unit normal is an axis and
-    # its offset an integer, so every member is proposed with its representative.)
+    # its offset a coordinate, exact, so every member is proposed with its representative.)
     pts, tri = _lattice_cube(4, 8)
     rng = np.random.default_rng(3)
     tz, tt = _terraces([1, 2, 3, 5], 8)  # parallel planes close together, relative to the offsets' scale
