@@ -35,7 +35,7 @@ __all__ = ["Containment", "check_containment3d", "check_containment2d"]
 _EPS = 2.0**-53
 _CHUNK = 2_000_000  # entries of the points x facets matrix held at once
 _CONE_CHUNK = 500_000  # (point, cone edge) rows held at once: a big polygon face costs rows, not memory
-_SMALL = 50_000  # below this many point-facet entries, brute force beats the cone machinery
+_SMALL = 50_000  # up to this many point-facet entries, brute force (it beats the cone machinery there)
 _WALK_STEPS = 64
 
 
@@ -82,10 +82,11 @@ def _facet_bounds(planes: list[np.ndarray], pmax: float) -> tuple[np.ndarray, np
     The true value is ``n . (p - a)`` with ``n`` the exact normal of the
     facet's defining points (``(b - a) x (c - a)`` in 3D, the edge rotated
     clockwise in 2D), whose sign is the exact side.  The float normal's
-    components are within 8 eps of their terms' magnitudes (twice the usual
-    bound), the dot products within 3 eps, and ``|p|, |a| <= pmax``; the bound
-    sums these with a factor of two to spare and a 2**-1000 absolute term for
-    underflow.
+    components are within 8 eps of their terms' magnitudes in 3D (twice the
+    usual bound; in 2D the edge, rounded once, is within eps of its own
+    magnitude), the dot products within 3 eps, and ``|p|, |a| <= pmax``; the
+    bound sums these with a factor of two to spare and a 2**-1000 absolute term
+    for underflow.
     """
     with np.errstate(all="ignore"):
         if len(planes) == 3:
@@ -98,7 +99,7 @@ def _facet_bounds(planes: list[np.ndarray], pmax: float) -> tuple[np.ndarray, np
             a, b = planes
             u = b - a
             n = np.stack([u[:, 1], -u[:, 0]], axis=1)
-            err = 4.0 * _EPS * np.abs(n) + 2.0**-1000
+            err = 0.0  # the edge rounded once: its error, eps |n|, is within the slack below
         offset = np.einsum("ij,ij->i", n, a)
         amax = _row_max(np.abs(a))
         slack = err + 16.0 * _EPS * np.abs(n)
@@ -136,25 +137,20 @@ def _distinct_planes(planes: list[np.ndarray]) -> np.ndarray:
     rep = np.empty(len(counts), dtype=np.int64)
     rep[group[order[first]]] = order[first]
     r = rep[group]
-    member = np.flatnonzero(r != np.arange(m))
-    if not member.size:
-        return np.arange(m)
+    member = np.flatnonzero(r != np.arange(m))  # not empty: some group has two facets
     ra, rb, rc = a[r[member]], b[r[member]], c[r[member]]
     on = np.ones(len(member), dtype=bool)
     for x in (a, b, c):
         on &= orient3d(ra, rb, rc, x[member]) == 0
+    # For a member on the representative's plane, every projection where the representative
+    # does not collapse compares the orientations alike: any of them decides (the last here).
     same = np.zeros(len(member), dtype=bool)
-    done = np.zeros(len(member), dtype=bool)
     for i, j in ((0, 1), (1, 2), (2, 0)):
         s_rep = orient2d(ra[:, [i, j]], rb[:, [i, j]], rc[:, [i, j]])
         s_mem = orient2d(a[member][:, [i, j]], b[member][:, [i, j]], c[member][:, [i, j]])
-        pick = ~done & (s_rep != 0)
+        pick = s_rep != 0
         same[pick] = s_rep[pick] == s_mem[pick]
-        done |= pick
-    redundant = member[on & same]
-    keep = np.ones(m, dtype=bool)
-    keep[redundant] = False
-    return np.flatnonzero(keep)
+    return np.setdiff1d(np.arange(m), member[on & same])
 
 
 def _brute(
@@ -172,10 +168,7 @@ def _brute(
         plane_idx = plane_idx[keep]
     pmax = float(np.abs(points[candidates]).max())
     n, offset, bound = _facet_bounds(planes, pmax)
-    with np.errstate(all="ignore"):
-        norm = np.sqrt(np.einsum("ij,ij->i", n, n))
-    with np.errstate(all="ignore"):
-        finite = np.isfinite(offset) & np.isfinite(bound) & np.isfinite(_row_sum(n))
+    norm = np.sqrt(np.einsum("ij,ij->i", n, n))  # einsum and sqrt of a non-negative raise no warning
     m = len(n)
     chunk = max(1, _CHUNK // max(m, 1))
     out = []
@@ -184,8 +177,13 @@ def _brute(
         idx = candidates[start : start + chunk]
         with np.errstate(all="ignore"):
             s = points[idx] @ n.T - offset
-        outside = (s > bound) & finite
-        gray = ~(s < -bound) & ~outside
+            # Decided in floats: a finite s beyond a finite bound.  An s that overflowed
+            # (inf, or NaN) decides nothing, as a term or a partial sum can overflow while
+            # the exact sum is small and of either sign; a facet whose normal, offset or
+            # bound is not finite has no finite s beyond its bound.
+            sure = np.isfinite(s) & (np.abs(s) > bound)
+        outside = sure & (s > 0)
+        gray = ~sure
         gi, gf = np.nonzero(gray)
         if gi.size:
             own = np.any(plane_idx[gf] == idx[gi][:, None], axis=1)  # a facet's own vertex is on it
@@ -252,7 +250,7 @@ def _in_cones(points, center, he: HalfEdges, faces: FaceSet, pts: np.ndarray, ca
     normal, offset, bound = cones
     sizes = faces.sizes[cand]
     inside = np.zeros(len(cand), dtype=bool)
-    exit_edge = np.full(len(cand), -1, dtype=np.int64)
+    exit_edge = np.full(len(cand), -1)
     ends = np.cumsum(sizes)
     lo = 0
     while lo < len(cand):
@@ -265,8 +263,9 @@ def _in_cones(points, center, he: HalfEdges, faces: FaceSet, pts: np.ndarray, ca
         p = points[pts[part][rows]]
         with np.errstate(all="ignore"):
             s = np.einsum("ij,ij->i", normal[edge], p) - offset[edge]
-        bad = s < -bound[edge]
-        gray = np.flatnonzero(~bad & ~(s > bound[edge]))
+            sure = np.isfinite(s) & (np.abs(s) > bound[edge])  # an overflowed s decides nothing
+        bad = sure & (s < 0)
+        gray = np.flatnonzero(~sure)
         if gray.size:
             e = edge[gray]
             bad[gray] = orient3d(center, points[he.src[e]], points[he.dst[e]], p[gray]) > 0
@@ -346,8 +345,8 @@ def check_containment3d(
     # A direction the tree could not place (index == len) just gets no candidate: the
     # walk and brute force below still decide every point exactly.
     nearest = np.minimum(nearest.reshape(len(todo), kk), len(face_ids) - 1)
-    located = np.full(len(todo), -1, dtype=np.int64)
-    exits = np.full(len(todo), -1, dtype=np.int64)
+    located = np.full(len(todo), -1)
+    exits = np.full(len(todo), -1)
     for j in range(kk):
         open_ = np.flatnonzero(located < 0)
         if not open_.size:
@@ -365,9 +364,7 @@ def check_containment3d(
             break
         twin = np.where(walk >= 0, he.twin[np.maximum(walk, 0)], -1)
         alive = twin >= 0
-        open_, twin = open_[alive], twin[alive]
-        if not open_.size:
-            break
+        open_, twin = open_[alive], twin[alive]  # (none left: the next round ends the walk)
         cand = he.face[twin]
         inside, walk = _in_cones(points, center, he, faces, todo[open_], cand, cones)
         located[open_[inside]] = cand[inside]
@@ -444,7 +441,7 @@ def check_containment2d(
     theta_sorted = theta[order]
     tp = np.arctan2(rel[todo, 1], rel[todo, 0])
     guess = order[(np.searchsorted(theta_sorted, tp, side="right") - 1) % k]
-    located = np.full(len(todo), -1, dtype=np.int64)
+    located = np.full(len(todo), -1)
     for step in (0, -1, 1, -2, 2):
         open_ = np.flatnonzero(located < 0)
         if not open_.size:
