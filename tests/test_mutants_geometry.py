@@ -257,6 +257,15 @@ def test_inner_radius_next_to_a_plane_stays_below_the_distance(height):
     assert height / 2 < r2 < height
 
 
+def test_inner_radius_of_a_sliver_facet_keeps_the_normals_rounding_margin():
+    # A facet 6e7 long and about 0.5 wide, the centre near its short edge: the float normal
+    # (b - a) x (c - a) loses about 1e-7 of its length to cancellation, far more than the
+    # 1e-12 factor covers.  The margin of 8 eps on each component's terms keeps the bound
+    # below the exact distance (a bound without it, or with it subtracted, lands 2e-8 above).
+    facets = [[[39685897.25, 32056937.9375, 34359407.5], [0.1676, 0.4036, -0.0311], [-0.0184, 0.7114, 0.5381]]]
+    _check_inner_radius(facets, [1.783, -3.2304, -0.8544], tight=1e-6)
+
+
 def test_inner_radius_of_planes_beyond_the_double_range_is_zero_silently():
     # Coordinates near 1e300: the float determinant and the normal overflow; the bound is
     # then 0 (no shortcut), never inf or NaN, and no overflow warning escapes.
