@@ -240,3 +240,15 @@ def test_a_reference_given_for_flat_input_is_recorded():
     assert v.ok and v.qhull_agreement is None and v.affine_rank == 1
     assert (v.qhull_options, v.qhull_ok, v.qhull_volume) == (ref.options, ref.qhull_ok, ref.volume)
     assert v.qhull_options is not None
+
+
+def test_verdicts_on_qhulls_own_faces_do_not_share_their_offending_dict():
+    # The verdict on Qhull's own faces is kept on the reference and handed out as a copy
+    # "with a fresh offending dict": writing into one verdict's dict leaves the next alone.
+    pts = np.array(_TET_POINTS[:4])
+    ref = qhull_reference(pts)
+    first = check(pts, _TET, reference=ref)
+    second = check(pts, _TET, reference=ref)
+    assert first.ok and first.offending == {} and first.offending is not second.offending
+    first.offending["containment"] = (0,)
+    assert check(pts, _TET, reference=ref).offending == {}

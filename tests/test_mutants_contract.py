@@ -117,6 +117,11 @@ def test_a_bool_among_python_ints_is_refused():
     assert _violation(normalize_polygon, [0, True, 2], 3) == "vertex indices must be integer indices, got element True"
     assert _violation(normalize_polygon, (2, 0, np.True_), 3) == "vertex indices must be integer indices, got element np.True_"
     assert _violation(normalize_faces, [[0, 1, 2], [2, False, 0]], 3) == "face 1 must be integer indices, got element False"
+    # Other refusals keep their own message.
+    assert _violation(normalize_polygon, [0.5, True, 2], 3) == "vertex indices must be integer indices, got list [0.5, True, 2]"
+    assert _violation(normalize_polygon, np.array([True, False, True]), 3) == (
+        "vertex indices must be integer indices, got ndarray of dtype bool and shape (3,)"
+    )
 
 
 def test_indices_beyond_int64_are_a_contract_violation():
@@ -128,6 +133,11 @@ def test_indices_beyond_int64_are_a_contract_violation():
     assert _violation(normalize_faces, [[0, 1, -(2**63) - 1]], 3) == (
         f"face 0 holds an index outside the int64 range: {-(2**63) - 1}"
     )
+    # The int64 bounds themselves fit (and are then out of range), held as objects too.
+    for big in (-(2**63), 2**63 - 1):
+        assert _violation(normalize_polygon, np.array([0, big], dtype=object), 3) == (
+            f"vertex indices holds index {big}, out of range for 3 points"
+        )
     # Unsigned arrays: 2**63 does not fit int64; 2**63 - 1 does, and is out of range.
     assert _violation(normalize_polygon, np.array([0, 2**63], dtype=np.uint64), 3) == (
         f"vertex indices holds an index too large for int64: {2**63}"

@@ -23,6 +23,7 @@ from hullstress.checker._geometry import (
     point_line_distance,
     point_plane_distance,
 )
+from hullstress.checker.predicates import filter3
 
 # --------------------------------------------------------------------------- exact_scale
 
@@ -264,6 +265,39 @@ def test_inner_radius_of_a_sliver_facet_keeps_the_normals_rounding_margin():
     # below the exact distance (a bound without it, or with it subtracted, lands 2e-8 above).
     facets = [[[39685897.25, 32056937.9375, 34359407.5], [0.1676, 0.4036, -0.0311], [-0.0184, 0.7114, 0.5381]]]
     _check_inner_radius(facets, [1.783, -3.2304, -0.8544], tight=1e-6)
+
+
+def _documented_inner_radius_3d(a, b, c, center) -> float:
+    """inner_radius of one facet by its docstring: Shewchuk's bound doubled off the float
+    determinant (filter3: the value, o3derrboundA x the rows' L1 norms, the underflow
+    term), over the float normal's length plus 8 eps (2**-53) of its terms' magnitudes per
+    component and 2**-1000, times 1 + 1e-12; the result shrunk by a further 1e-9."""
+    a, b, c, center = (np.asarray(x, dtype=np.float64) for x in (a, b, c, center))
+    num, num_err, noise = (float(x[0]) for x in filter3(a[None], b[None], c[None], center[None]))
+    u, v = b - a, c - a
+    n = np.abs(np.cross(u, v))
+    terms = [abs(u[1] * v[2]) + abs(u[2] * v[1]), abs(u[2] * v[0]) + abs(u[0] * v[2]), abs(u[0] * v[1]) + abs(u[1] * v[0])]
+    up = [float(n[i]) + 8.0 * 2.0**-53 * terms[i] + 2.0**-1000 for i in range(3)]
+    den = math.sqrt(up[0] ** 2 + up[1] ** 2 + up[2] ** 2) * (1.0 + 1e-12)
+    return max((num - (2.0 * num_err + noise)) / den * (1.0 - 1e-9), 0.0)
+
+
+@pytest.mark.parametrize(
+    "facet, center",
+    [
+        # Thin: the centre 2**-40 below the plane, the determinant's bound ~2**-11 of it.
+        ([[0, 0, 0], [0, 1, 0], [1, 0, 0]], [0.25, 0.25, 2.0**-40]),
+        # The sliver above: the normal's margin ~1e-7 of its length.
+        ([[39685897.25, 32056937.9375, 34359407.5], [0.1676, 0.4036, -0.0311], [-0.0184, 0.7114, 0.5381]], [1.783, -3.2304, -0.8544]),
+    ],
+)
+def test_inner_radius_is_the_documented_bound(facet, center):
+    # The margins are those of the docstring, no more (a tighter shortcut) and no less (a
+    # rigorous one): within 1e-13, where one rounding more or less anywhere is ~1e-16 and
+    # every margin here is 1e-12 or more of the result.
+    want = _documented_inner_radius_3d(*facet, center)
+    got = _check_inner_radius([facet], center, tight=None)
+    assert want > 0 and got == pytest.approx(want, rel=1e-13, abs=0)
 
 
 def test_inner_radius_of_planes_beyond_the_double_range_is_zero_silently():
