@@ -41,6 +41,8 @@ __all__ = [
 #: The fewest vertices of a face of a closed surface (a full-dimensional 3D hull).
 MIN_FACE_SIZE = 3
 
+_INT64_MIN, _INT64_MAX = int(np.iinfo(np.int64).min), int(np.iinfo(np.int64).max)
+
 
 @dataclass(frozen=True, eq=False)
 class FaceSet:
@@ -158,7 +160,15 @@ def _as_index_array(value: Any, what: str) -> np.ndarray:
                 None,
             )
             raise ContractViolation(f"{what} must be integer indices, got element {bad!r}")
+        big = next((x for x in flat if not _INT64_MIN <= x <= _INT64_MAX), None)
+        if big is not None:  # a Python int beyond int64 (numpy keeps such a list as objects)
+            raise ContractViolation(f"{what} holds an index outside the int64 range: {big}")
         arr = np.array(flat, dtype=np.int64).reshape(arr.shape)
+    elif arr.ndim == 1 and arr.dtype.kind in "iu" and not isinstance(value, np.ndarray):
+        # numpy turns a bool among Python ints into 0 or 1: find it in the sequence itself.
+        bad = next((x for x in value if isinstance(x, (bool, np.bool_))), None)
+        if bad is not None:
+            raise ContractViolation(f"{what} must be integer indices, got element {bad!r}")
     if arr.dtype.kind == "b" or arr.dtype.kind not in "iu":
         raise ContractViolation(f"{what} must be integer indices, got {_describe(value)}")
     if arr.dtype.kind == "u" and arr.size and arr.max() > np.iinfo(np.int64).max:

@@ -312,16 +312,14 @@ def _assemble(
             n_extreme = len(extreme_ids)
             rep = ids.first_of_each(extreme)
             missing = rep[~ids.within(rep, hull)]
-            if cert.boundary_nonextreme is not None:
-                n_boundary = ids.distinct(cert.boundary_nonextreme)
-            else:
-                hv = ids.first_of_each(cert.hull_vertices)
-                others = hv[~ids.within(hv, extreme_ids)]
-                if ref_certified:
-                    others = others[_on_boundary(scaled, others, reference.faces)]
-                n_boundary = len(others)
+            # (cert.boundary_nonextreme is known for certified surfaces only.)
+            hv = ids.first_of_each(cert.hull_vertices)
+            others = hv[~ids.within(hv, extreme_ids)]
+            if ref_certified:
+                others = others[_on_boundary(scaled, others, reference.faces)]
+            n_boundary = len(others)
         else:
-            n_boundary = ids.distinct(cert.boundary_nonextreme) if cert.boundary_nonextreme is not None else 0
+            n_boundary = 0
         same, n_mine, n_theirs = True, 0, 0
         if has_reference:
             theirs = ids.groups(q_vertices)
