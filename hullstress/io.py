@@ -56,6 +56,7 @@ __all__ = [
     "read_faces",
     "write_points",
     "write_faces",
+    "points_text",
     "parse_float",
 ]
 
@@ -534,6 +535,40 @@ def read_faces(path: str | os.PathLike[str], *, dim: int | None = None) -> Any:
 
 
 # --------------------------------------------------------------------------- writers
+
+
+def points_text(points: Any, *, indent: str = "") -> str:
+    """The points one per line, coordinates as exact ``repr`` floats, for a report to show.
+
+    Any shape is shown as it is: an empty set (the bad-input family's
+    ``empty`` case, shape ``(0, d)``) is a line that says so, a row of another
+    length than its neighbours' is not an error.
+
+    Parameters
+    ----------
+    points : array_like
+        The points, usually shape ``(n, d)``.
+    indent : str
+        Put before every line.
+
+    Returns
+    -------
+    str
+        ``"x, y[, z]"`` per point, lines joined by newlines.
+
+    Examples
+    --------
+    >>> print(points_text(np.array([[0.5, 1.0], [2.0, -0.0]]), indent="  "))
+      0.5, 1.0
+      2.0, -0.0
+    >>> points_text(np.zeros((0, 3)))
+    '(no points: shape (0, 3))'
+    """
+    arr = np.asarray(points, dtype=np.float64)
+    if arr.size == 0:
+        return f"{indent}(no points: shape {tuple(arr.shape)})"
+    rows = arr.reshape(arr.shape[0], -1) if arr.ndim >= 1 else arr.reshape(1, 1)
+    return "\n".join(indent + ", ".join(repr(float(x)) for x in row) for row in rows)
 
 
 def _format_float(x: float, hex_floats: bool) -> str:

@@ -91,6 +91,39 @@ def test_failures_exit_1(tmp_path, square_csv):
     assert df["status"].tolist() == ["fail"] and "containment" in df["failed_checks"][0]
 
 
+def test_a_library_that_crashes_on_the_empty_set_gets_a_cause_with_no_points(tmp_path):
+    """The bad-input family's empty case is triaged, foldered, reported and reproduced like any other."""
+    plugin = tmp_path / "abort_plugin.py"
+    plugin.write_text(textwrap.dedent(
+        """
+        import os
+        from scipy.spatial import ConvexHull
+        from hullstress import register_algorithm
+
+        @register_algorithm("test-aborts-on-empty", dim=2)
+        def aborts(points):
+            if len(points) == 0:
+                os.abort()
+            return ConvexHull(points).vertices
+        """
+    ))
+    junit = tmp_path / "junit.xml"
+    res = run_cli("run", "--plugin", str(plugin), "--algorithm", "test-aborts-on-empty", "--generator", "bad-input",
+                  "--out", str(tmp_path / "out"), "--workers", "1", "--junit", str(junit))
+    assert res.returncode == 1, res.stderr
+    assert "internal error" not in res.stderr
+    run_dir = _run_dir(res.stdout)
+    causes = pd.read_csv(run_dir / "causes.csv", keep_default_na=False)
+    empty = causes[causes["minimal_size"] == 0]
+    assert len(empty) == 1 and "SIGABRT" in empty["folder"].iloc[0]
+    folder = run_dir / "failures" / Path(empty["folder"].iloc[0]).name
+    assert np.load(folder / "points.npy").shape == (0, 2)
+    assert "(no points: shape (0, 2))" in junit.read_text()
+    assert "(no points: shape (0, 2))" in (run_dir / "report.html").read_text()
+    again = run_cli("reproduce", str(folder))
+    assert "the same failure as recorded" in again.stdout, again.stdout + again.stderr
+
+
 BAD_CALLS = [
     (["run", "--algorithm", "no-such-hull"], "unknown algorithm 'no-such-hull'; valid names:"),
     (["run", "--generator", "no-such-family"], "unknown generator 'no-such-family'; valid names:"),

@@ -297,6 +297,15 @@ def test_canonical_key_tells_different_inputs_apart():
     assert canonical_form(chiral) != canonical_form(chiral * np.array([-1.0, 1.0]))
 
 
+def test_canonical_key_of_inputs_without_an_exact_form_names_their_shape():
+    """The bad-input family's empty set, shape (0, d), fails in its own right and has a key like any input."""
+    keys = {canonical_key(a) for a in (np.zeros((0, 2)), np.zeros((0, 3)), np.zeros(0), np.zeros((3, 0)),
+                                       np.array(5.0), np.array(6.0))}
+    assert len(keys) == 6
+    assert canonical_form(np.zeros((0, 3))) == ("raw", (0, 3), ())
+    assert canonical_key(np.zeros((0, 2))) == canonical_key(np.zeros((0, 2)))
+
+
 def _rational_form(points: np.ndarray) -> tuple:
     """The documented canonical form the plain way, with fractions (shares nothing with the code)."""
     import itertools

@@ -16,9 +16,9 @@ import math
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-import numpy as np
 import pandas as pd
 
+from ..io import points_text
 from ..results import STATUSES
 from ..triage.grouping import FailureGroup
 from .failures import FailureRecord
@@ -131,10 +131,6 @@ def _pct_cell(column: str, value: Any) -> tuple[str | None, str]:
     return None, ""
 
 
-def _points_text(points: np.ndarray) -> str:
-    return "\n".join(", ".join(repr(float(x)) for x in row) for row in np.asarray(points).reshape(len(points), -1))
-
-
 def _cause_html(rec: FailureRecord) -> str:
     cause, sig = rec.cause, rec.signature
     parts = [f'<section class="group" id="{_e(cause.slug)}">', f"<h3>{_e(cause.headline)}</h3>"]
@@ -164,7 +160,7 @@ def _cause_html(rec: FailureRecord) -> str:
                      f"<pre>{_e(rec.command)}</pre>")
     if len(rec.points) <= 64:
         parts.append(f"<details><summary>minimal points ({len(rec.points)}, exact)</summary>"
-                     f"<pre>{_e(_points_text(rec.points))}</pre></details>")
+                     f"<pre>{_e(points_text(rec.points))}</pre></details>")
     parts.append("</section>")
     return "\n".join(parts)
 

@@ -18,10 +18,10 @@ import xml.etree.ElementTree as ET
 from collections.abc import Sequence
 from pathlib import Path
 
-import numpy as np
 import pandas as pd
 
 from ..files import atomic_write_text, writable_folder
+from ..io import points_text
 from ..triage.signature import signature_of
 from .failures import FailureRecord
 from ..records import Sphere, Stage, Status
@@ -40,8 +40,7 @@ def _safe(text: str) -> str:
 def _failure_text(records: Sequence[FailureRecord]) -> str:
     blocks = []
     for rec in records:
-        pts = "\n".join("  " + ", ".join(repr(float(x)) for x in row)
-                        for row in np.asarray(rec.points).reshape(len(rec.points), -1))
+        pts = points_text(rec.points, indent="  ")
         blocks.append(
             f"{rec.cause.headline}: {rec.cause.failures} failures; "
             f"minimal case {rec.minimal_size} points (from {rec.original_size})\n"

@@ -24,6 +24,8 @@ from __future__ import annotations
 
 import hashlib
 import itertools
+import math
+
 import numpy as np
 
 __all__ = ["canonical_form", "canonical_key"]
@@ -63,8 +65,11 @@ def canonical_form(points: np.ndarray) -> tuple:
     ('exact', 2, 1, ((0, 0), (0, 1), (3, 0)))
     """
     arr = np.asarray(points, dtype=np.float64)
-    if arr.ndim != 2 or arr.shape[0] == 0 or not np.isfinite(arr).all():
-        rows = sorted(tuple(float(x).hex() for x in row) for row in arr.reshape(len(arr), -1)) if arr.ndim >= 1 else []
+    if arr.ndim != 2 or arr.size == 0 or not np.isfinite(arr).all():
+        # No exact form: the shape and every value's bits (an empty set, shape (0, d), is
+        # a case of the bad-input family like any other, and may fail in its own way).
+        flat = arr.reshape(arr.shape[0], math.prod(arr.shape[1:])) if arr.ndim >= 1 else arr.reshape(1, 1)
+        rows = sorted(tuple(float(x).hex() for x in row) for row in flat)
         return ("raw", arr.shape, tuple(rows))
     d = arr.shape[1]
     ratios = [[float(x).as_integer_ratio() for x in row] for row in arr.tolist()]
