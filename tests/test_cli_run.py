@@ -244,3 +244,21 @@ def test_the_command_line_yields_the_cpu_to_its_workers_which_keep_their_priorit
     assert set(pd.read_csv(run_dir / "results.csv")["reason"]) == {f"ValueError: niceness {start}"}
     exits = dict(line.split() for line in log.read_text().splitlines())
     assert exits[str(command.pid)] == str(min(19, start + YIELD_NICENESS))
+
+
+def test_the_partial_table_has_every_column_in_order_and_none_or_missing_as_empty(tmp_path):
+    from hullstress.report.writer import RowStream
+    from hullstress.results import ResultRow
+
+    stream = RowStream(tmp_path)
+    full = {c: f"v-{c}" for c in ROW_COLUMNS}
+    stream(ResultRow(full))
+    sparse = {"case_id": "abc", "status": "pass", "seconds": 0.25, "failed_checks": None, "not_a_column": "x"}
+    stream(ResultRow(sparse))
+    stream.close(remove=False)
+    lines = (tmp_path / "results.partial.csv").read_bytes().split(b"\r\n")
+    assert lines[0].decode() == ",".join(ROW_COLUMNS) and lines[-1] == b""
+    assert lines[1].decode() == ",".join(f"v-{c}" for c in ROW_COLUMNS)
+    assert lines[2].decode() == ",".join({"case_id": "abc", "status": "pass", "seconds": "0.25"}.get(c, "")
+                                         for c in ROW_COLUMNS)
+    assert stream.count == 2
