@@ -13,6 +13,7 @@ from __future__ import annotations
 from fractions import Fraction
 
 import numpy as np
+import pytest
 
 from hullstress.checker.rank import affine_rank, witness_simplex
 
@@ -39,3 +40,21 @@ def test_the_far_point_is_chosen_when_the_float_scores_overflow():
     assert area[3] == 0 and area[4] == 9 * area[2] > 0
     assert witness_simplex(np.array(pts)).tolist() == [0, 1, 4]
     assert affine_rank(np.array(pts)) == 2
+
+
+def test_the_third_point_is_the_farthest_from_the_ends_line_away_from_the_origin():
+    # The ends of the widest axis (x: 0 to 20) are (0, -10) and (20, -10); of the others,
+    # (5, -4) is 6 from their line y = -10 and (5, -15) only 5: "far points first" takes
+    # (5, -4).  The line is away from the origin and horizontal, so a score measured from
+    # the origin, or with the line's direction mixed up, would pick the other point.
+    pts = [(5.0, -15.0), (0.0, -10.0), (5.0, -4.0), (20.0, -10.0)]
+    dist = [abs(Fraction(p[1]) - (-10)) for p in pts]
+    assert dist[2] == 6 and dist[0] == 5
+    got = witness_simplex(np.array(pts)).tolist()
+    assert got == [1, 3, 2]
+
+
+def test_the_error_for_non_finite_points_says_so():
+    for bad in (np.nan, np.inf, -np.inf):
+        with pytest.raises(ValueError, match=r"^points must be finite, got NaN or inf coordinates$"):
+            affine_rank(np.array([[0.0, 0.0], [1.0, bad], [0.0, 1.0]]))
