@@ -177,3 +177,23 @@ def test_a_square_with_a_slit_towards_its_mean_is_declined(monkeypatch, q):
     assert _winding(_SLIT, mean) == 1
     _force_ray(monkeypatch, q)
     assert certify_convex_polygon(np.array(_SLIT, dtype=np.float64), np.arange(k)) is None
+
+
+#: A square about the origin, counter-clockwise.
+_SQUARE = [(2, -2), (2, 2), (-2, 2), (-2, -2)]
+
+
+@pytest.mark.parametrize("q", _polygon_rays(_SQUARE))
+@pytest.mark.parametrize("kind", ["doubled corner", "run twice"])
+def test_a_polygon_repeating_a_coordinate_is_declined(monkeypatch, q, kind):
+    # Repeated coordinates under distinct indices (not simple, DESIGN.md): a corner given
+    # twice in a row (an edge of zero length, on whose line the mean lies), or the square run
+    # twice (every turn left and the mean strictly left of every edge, but winding twice).
+    ring = _SQUARE[:1] + _SQUARE if kind == "doubled corner" else _SQUARE * 2
+    pts = np.array(ring, dtype=np.float64)
+    if kind == "doubled corner":
+        assert _mean(ring) != (0, 0) and _orient(ring[0], ring[1], _mean(ring)) == 0
+    else:
+        assert _mean(ring) == (0, 0) and min(_orient(ring[i], ring[(i + 1) % 8], (0, 0)) for i in range(8)) > 0
+    _force_ray(monkeypatch, q)
+    assert certify_convex_polygon(pts, np.arange(len(ring))) is None
