@@ -251,3 +251,60 @@ def test_no_reflex_edge_next_to_a_face_without_a_plane(closed):
     assert res.degenerate.tolist() == [False] * (len(faces) - 1) + [True]
     assert res.n_reflex_edges == 0 and res.reflex_faces.tolist() == []
     assert "reflex" not in res.magnitudes
+
+
+# --------------------------------------------------------------------------- a surface winding more than once
+
+#: Nine integer points near a circle of radius 100 in z = 0 (coordinates summing to 0),
+#: joined every fourth: the star {9/4}, every turn left, winding four times around the origin.
+_CIRCLE9 = [(98, 20), (62, 78), (-3, 100), (-66, 75), (-99, 15), (-85, -52), (-32, -95), (37, -93), (88, -48)]
+_STAR94 = [(4 * t) % 9 for t in range(9)]
+
+
+def _winding(ring, o) -> int:
+    """The winding number of a closed (x, y) polygon around a point not on it (exact)."""
+    def orient(a, b, c):
+        return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+
+    w = 0
+    for i, a in enumerate(ring):
+        b = ring[(i + 1) % len(ring)]
+        if a[1] <= o[1] < b[1] and orient(a, b, o) > 0:
+            w += 1
+        elif b[1] <= o[1] < a[1] and orient(a, b, o) < 0:
+            w -= 1
+    return w
+
+
+def test_a_star_bipyramid_winding_four_times_is_counted_around_its_vertex_mean():
+    # Poles N = (0, 0, 50) and S = (0, 0, -40) over the {9/4} star: a closed surface
+    # (V - E + F = 11 - 27 + 18 = 2) with no reflex edge and the vertex mean (0, 0, 10/11)
+    # strictly below every face, but covering the sphere of directions four times, as its
+    # ring winds around the axis.  The surface passed every local test, so the vertex mean
+    # is the centre and the wrap count names the failure.  The witness simplex's centroid
+    # (-33/4, -15, 25/2) lies in a tip of the star: above the faces from N over star edges
+    # 1 and 3, so it would flip them.
+    points = [(x, y, 0) for x, y in _CIRCLE9] + [(0, 0, 50), (0, 0, -40)]
+    faces = []
+    for t in range(9):
+        a, b = _STAR94[t], _STAR94[(t + 1) % 9]
+        faces += [[9, a, b], [10, b, a]]
+    mean = _centroid(points, range(11))
+    assert mean == (0, 0, Fraction(10, 11))
+    assert min(_height(points, f, mean) for f in faces) > 0
+    for f in faces:  # no reflex edge: no vertex of a neighbouring face strictly above a face
+        for g in faces:
+            if len(set(f) & set(g)) == 2:
+                assert min(_height(points, f, points[v]) for v in g) >= 0
+    assert _winding([_CIRCLE9[i] for i in _STAR94], (0, 0)) == 4
+    simplex = _far_points_first(points)
+    assert simplex == [4, 0, 6, 9]
+    centroid = _centroid(points, simplex)
+    assert centroid == (Fraction(-33, 4), -15, Fraction(25, 2))
+    assert [k for k, f in enumerate(faces) if _height(points, f, centroid) <= 0] == [2, 6]
+    res = _check(points, faces)
+    assert not res.ok and res.n_reflex_edges == 0 and not res.degenerate.any()
+    assert res.degree == 4
+    assert res.flipped.tolist() == []
+    assert res.center is not None and min(_height(points, f, tuple(Fraction(float(c)) for c in res.center)) for f in faces) > 0
+    assert len(res.reasons) == 1 and "wraps 4 times" in res.reasons[0]

@@ -116,3 +116,49 @@ def test_a_slit_towards_the_vertex_mean_is_neither_convex_nor_simple():
     assert not res.convex_ok and not res.manifold_ok
     assert res.center is None  # no point is strictly left of both slit edges
     assert set(res.flipped.tolist()) & {1, 2}
+
+
+#: Nine integer points near a circle of radius 100 (coordinates summing to 0: the vertex mean
+#: is the origin), joined every fourth: the star {9/4}.  Every turn is left and the origin is
+#: strictly left of every edge, but the star winds four times around it.  The witness triangle
+#: (the x ends P4 = (-99, 15) and P0 = (98, 20), then P6 = (-32, -95), the farthest from their
+#: line) has its centroid (-11, -20) in a tip of the star, strictly right of two edges.
+_CIRCLE9 = [(98, 20), (62, 78), (-3, 100), (-66, 75), (-99, 15), (-85, -52), (-32, -95), (37, -93), (88, -48)]
+_STAR94 = [(4 * t) % 9 for t in range(9)]
+
+
+def _winding(ring, o) -> int:
+    """The winding number of a closed polygon around a point not on it (exact)."""
+    w = 0
+    for i, a in enumerate(ring):
+        b = ring[(i + 1) % len(ring)]
+        if a[1] <= o[1] < b[1] and _orient(a, b, o) > 0:
+            w += 1
+        elif b[1] <= o[1] < a[1] and _orient(a, b, o) < 0:
+            w -= 1
+    return w
+
+
+def test_a_star_winding_four_times_is_counted_around_its_vertex_mean():
+    ring = [_CIRCLE9[i] for i in _STAR94]
+    assert min(_turns(ring)) > 0
+    assert _mean(ring) == (0, 0) and min(_left(ring, (0, 0))) > 0
+    assert _winding(ring, (0, 0)) == 4
+    # The witness triangle by hand: x spans 197 (-99 to 98), y 195; the point farthest from
+    # the line P4 P0 (|cross| with its direction, exact) is P6 alone.
+    p4, p0 = _CIRCLE9[4], _CIRCLE9[0]
+    cross = [abs(_orient(p4, p0, p)) for p in _CIRCLE9]
+    assert max(range(9), key=cross.__getitem__) == 6 and sorted(cross)[-2] < cross[6]
+    centroid = tuple(Fraction(p4[c] + p0[c] + _CIRCLE9[6][c], 3) for c in range(2))
+    assert centroid == (-11, -20)
+    assert [i for i, v in enumerate(_left(ring, centroid)) if v <= 0] == [1, 3]
+    assert min(_left(ring, centroid)) < 0
+    res = check_polygon2d(np.array(_CIRCLE9, dtype=np.float64), np.array(_STAR94))
+    # The polygon passed every local test, so its vertex mean is the centre (tested exactly,
+    # and it is strictly left of every edge): the wrap count names the failure, and no edge
+    # is flipped (the centroid, in a tip, would flip two).
+    assert not res.convex_ok and res.reflex.tolist() == [] and res.degenerate_edges.tolist() == []
+    assert res.wraps == 4
+    assert res.flipped.tolist() == []
+    assert res.center is not None and res.center.tolist() == [0.0, 0.0]
+    assert len(res.reasons_convex) == 1 and "winds 4 times" in res.reasons_convex[0]
