@@ -90,7 +90,6 @@ def _certified(
         n_nonconvex_edges=0,
         n_degenerate_faces=0,
         offending={key: _EMPTY for key in _OFFENDING_KINDS[dim]},
-        magnitudes={},
         measure=measure,
         reasons={"containment": [], "convexity": [], "manifoldness": []},
         wraps=1,
@@ -212,10 +211,12 @@ def certify_convex_polygon(points: np.ndarray, poly: np.ndarray, *, seed: int = 
 
     The conditions of :func:`.polygon2d.check_polygon2d` and
     :func:`.containment.check_containment2d` for a polygon that passes them:
-    at least three vertices, no repeated index or coordinate, every turn left
-    or straight and one strictly left, the vertices' mean strictly left of
-    every edge (no edge of zero length then), winding once around it,
-    positive area, no point strictly right of an edge.
+    at least three vertices, no repeated index, every turn left or straight
+    and one strictly left, the vertices' mean strictly left of every edge (no
+    edge of zero length then), winding once around it, positive area, no
+    point strictly right of an edge.  No coordinate repeats then either: every
+    edge turns by a positive angle around the mean and they turn once around
+    in all, so the vertices lie in distinct directions from it.
 
     Parameters
     ----------
@@ -237,9 +238,6 @@ def certify_convex_polygon(points: np.ndarray, poly: np.ndarray, *, seed: int = 
     if len(vertices) != k:
         return None
     a = points[poly]
-    srt = a[np.lexsort(a.T[::-1])]
-    if np.any(np.all(srt[1:] == srt[:-1], axis=1)):
-        return None
     mean = vertex_mean(a)
     q = ray_point(mean, float(max(a.max(), -a.min())), seed)
     candidates = (~is_vertex).nonzero()[0]

@@ -14,7 +14,8 @@ import numpy as np
 
 __all__ = ["exact_extreme_2d", "first_of_each", "rows_in", "Coordinates"]
 
-_ERRBOUND = (3.0 + 16.0 * 2.0**-53) * 2.0**-53
+#: Shewchuk's ccwerrboundA, with a relative slack of 2**-40 for the float evaluation of the bound.
+_ERRBOUND = (3.0 + 16.0 * 2.0**-53) * 2.0**-53 * (1.0 + 2.0**-40)
 
 
 def _orient_scalar(ax: float, ay: float, bx: float, by: float, cx: float, cy: float) -> int:
@@ -23,8 +24,9 @@ def _orient_scalar(ax: float, ay: float, bx: float, by: float, cx: float, cy: fl
     right = (ay - cy) * (bx - cx)
     det = left - right
     bound = _ERRBOUND * (abs(left) + abs(right))
-    # The 1e-300 floor keeps the filter honest where products underflow.
-    if abs(det) > bound * (1.0 + 2.0**-40) + 1e-300 and det == det and abs(det) != float("inf"):
+    # The 1e-300 floor keeps the filter honest where products underflow.  A NaN det fails
+    # the test, and so does an infinite one (|det| <= |left| + |right|: its bound is infinite).
+    if abs(det) > bound + 1e-300:
         return 1 if det > 0 else -1
     fa = [Fraction(v) for v in (ax, ay, bx, by, cx, cy)]
     exact = (fa[0] - fa[4]) * (fa[3] - fa[5]) - (fa[1] - fa[5]) * (fa[2] - fa[4])
@@ -114,11 +116,10 @@ class Coordinates:
 
     def __init__(self, points: np.ndarray, *index_arrays: np.ndarray):
         idx = np.unique(np.concatenate([np.asarray(i, dtype=np.int64) for i in index_arrays]))
-        rows = points[idx] + 0.0  # -0.0 and 0.0 are the same coordinate
+        rows = points[idx]  # sorted and compared by value: -0.0 and 0.0 are the same coordinate
         order = np.lexsort(rows.T[::-1])
         srt = rows[order]
-        new = np.empty(len(idx), dtype=bool)
-        new[:1] = True
+        new = np.ones(len(idx), dtype=bool)  # the first row starts a group
         np.any(srt[1:] != srt[:-1], axis=1, out=new[1:])
         self._id = np.full(len(points), -1, dtype=np.int64)
         self._id[idx[order]] = np.cumsum(new) - 1
