@@ -26,6 +26,11 @@
 # MUTATION_JOBS (default 2) sets mutmut's parallel children; the run is niced.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
+if ! command -v mutmut >/dev/null 2>&1; then
+  # Checked before anything is deleted: a missing tool must not cost the kept mutants/.
+  echo "tools/mutation.sh: mutmut not found on PATH (pip install -e \".[mutation]\" in the active environment)" >&2
+  exit 2
+fi
 jobs="${MUTATION_JOBS:-2}"
 out=reports/mutation
 mkdir -p "$out"
