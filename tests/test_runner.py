@@ -116,6 +116,16 @@ PLUGIN = textwrap.dedent(
         raise RuntimeError(f"pid {os.getpid()}")
 
 
+    CALLS = []
+
+
+    @register_algorithm(P + "count", dim=2)
+    def count(points):
+        """Reports how many calls of it its process has run, this one included."""
+        CALLS.append(1)
+        raise RuntimeError(f"call {len(CALLS)}")
+
+
     @register_algorithm(P + "slow", dim=2)
     def slow(points):
         """Correct, after a pause; leaves its pid where RUNNER_TEST_PID_DIR says."""
@@ -424,6 +434,25 @@ def test_call_pool_judges_with_the_reference_only_the_cases_the_mapping_names(pl
     agreement = [r[0]["qhull_agreement"] for r in rows]
     assert [r[0].status for r in rows] == ["pass"] * 3
     assert agreement[0] == "agree" and agreement[1] in (None, "") and agreement[2] in (None, "")
+
+
+@pytest.mark.parametrize("workers", [1, 2])
+def test_a_task_run_alone_gets_a_worker_that_has_run_nothing_before(plugin, workers):
+    # Whether native code dies can depend on what its process ran before: triage judges a
+    # crash in a fresh worker, and the same case's other tasks do not join that job.
+    cases = _cases(4)
+    count = AlgorithmConfig(P + "count")
+    tasks = [Task(0, cases[0], (count,)), Task(1, cases[0], (count,)), Task(2, cases[1], (count,)),
+             Task(3, cases[2], (count,)), Task(4, cases[3], (count,)), Task(5, cases[3], (count,))]
+    alone = [False, True, False, True, False, True]
+    with CallPool(workers, memory_limit_mb=None) as pool:
+        for _ in range(2):  # the second time every worker has run something already
+            rows = pool.run(tasks, timeout=5.0, qhull=False, alone=alone)
+            reasons = [r[0]["reason"] for r in rows]
+            assert all(reasons[n].endswith("call 1") for n in (1, 3, 5)), reasons
+            if workers == 1:  # one worker runs the other tasks one after another
+                assert not all(reasons[n].endswith("call 1") for n in (0, 2, 4)), reasons
+        assert pool.stats.worker_restarts == 0  # a worker retired for a fresh one is not a death
 
 
 def test_call_pool_uses_every_worker(plugin):

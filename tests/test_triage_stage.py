@@ -156,6 +156,62 @@ def test_an_interrupt_keeps_the_best_cases_so_far(sweep):
             assert signature_of(run_config(rec.case, rec.config, timeout=2.0)) == rec.signature
 
 
+HISTORY_PLUGIN = textwrap.dedent(
+    '''
+    """A crash that depends on what the process ran before, for tests/test_triage_stage.py."""
+    import os
+
+    from scipy.spatial import ConvexHull
+
+    from hullstress import register_algorithm
+
+    WARM = []
+
+
+    @register_algorithm("test-history-crash", dim=2)
+    def crash_when_cold(points):
+        """Dies on 3 points or more in a process that has not run test-history-warm (like native
+        code reading memory it never set, whose contents earlier calls decide)."""
+        if not WARM and len(points) >= 3:
+            os.abort()
+        return [int(i) for i in ConvexHull(points).vertices]
+
+
+    @register_algorithm("test-history-warm", dim=2)
+    def warm(points):
+        """Drops a vertex (a failure for triage to shrink) and leaves its process warm."""
+        WARM.append(1)
+        return [int(i) for i in ConvexHull(points).vertices][1:]
+    '''
+)
+
+
+@pytest.fixture(scope="module")
+def history_sweep(tmp_path_factory):
+    path = tmp_path_factory.mktemp("history-plugin") / "history_plugins.py"
+    path.write_text(HISTORY_PLUGIN)
+    load_plugin(str(path))
+    rng = np.random.default_rng(5)
+    cases = [Case(points=rng.uniform(-10, 10, size=(n, 2)), dim=2, family="test-history", seed=n, size=n)
+             for n in (12, 16)]
+    configs = (AlgorithmConfig("test-history-crash"), AlgorithmConfig("test-history-warm"))
+    # The crashes first: each kills its worker, so the next call starts cold too.
+    table = to_frame([run_config(c, config, timeout=5.0) for config in configs for c in cases])
+    assert list(table["status"]) == ["crash", "crash", "fail", "fail"]
+    return table, cases
+
+
+@pytest.mark.parametrize("workers", [1, 2])
+def test_a_crash_is_judged_in_a_fresh_worker_whatever_ran_there_before(history_sweep, workers):
+    table, cases = history_sweep
+    result = triage_failures(table, cases, budget=BUDGET, timeout=5.0, workers=workers)
+    crashes = [r for c in result.causes for r in c.records if r.signature.status == "crash"]
+    assert crashes
+    for record in crashes:  # reproduced, shrunk to the 3 points it needs and verified, whatever ran before
+        assert record.shrink.reproduced and len(record.shrink.case.points) == 3, record.shrink.note
+        assert record.verified
+
+
 def test_chains_hold_back_groups_of_a_kind_seen_before():
     from types import SimpleNamespace
 
@@ -174,7 +230,7 @@ class _CountingPool:
     def __init__(self) -> None:
         self.calls: list[tuple[str, str, bool]] = []
 
-    def run(self, tasks, *, timeout, qhull, qhull_options=None):
+    def run(self, tasks, *, timeout, qhull, qhull_options=None, alone=None):
         from hullstress.results import ResultRow
 
         out = []
@@ -265,7 +321,7 @@ class _ShufflingPool:
             for config in job.task.configs:
                 on_row(evaluate(job.task.case, config, qhull=bool(job.qhull)))
 
-    def run(self, tasks, *, timeout, qhull=True, qhull_options=None):
+    def run(self, tasks, *, timeout, qhull=True, qhull_options=None, alone=None):
         from hullstress.evaluate import evaluate
 
         return [[evaluate(t.case, c, qhull=qhull.get(t.case.case_id, False) if isinstance(qhull, dict) else qhull)

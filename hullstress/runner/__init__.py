@@ -241,7 +241,8 @@ class CallPool:
         return self._pool.size
 
     def run(self, tasks: Sequence[Task], *, timeout: float, qhull: bool | Mapping[str, bool] = True,
-            check_timeout: float | None = None, qhull_options: str | None = None) -> list[list[ResultRow]]:
+            check_timeout: float | None = None, qhull_options: str | None = None,
+            alone: Sequence[bool] | None = None) -> list[list[ResultRow]]:
         """Run every config of every task; rows per task, in config order.
 
         Parameters
@@ -258,6 +259,10 @@ class CallPool:
             Limit on the checker; default ``max(60, 10 * timeout)``.
         qhull_options : str, optional
             Qhull options tried first for the reference (the run's ``--qhull-options``).
+        alone : sequence of bool, optional
+            Per task: run it as a job of its own in a worker that has run
+            nothing before it (:attr:`PendingJob.fresh_worker`), not merged
+            with the other tasks of its case.
 
         Raises
         ------
@@ -279,12 +284,20 @@ class CallPool:
 
         # One job per case, with the union of its configs: its facts are computed once.
         merged: dict[str, Task] = {}
-        for t in tasks:
+        separate: list[Task] = []
+        for n, t in enumerate(tasks):
+            if alone is not None and alone[n]:
+                separate.append(t)
+                continue
             first = merged.get(t.case.case_id)
             configs = t.configs if first is None else tuple(dict.fromkeys(first.configs + t.configs))
             merged[t.case.case_id] = Task(t.index if first is None else first.index, t.case, configs)
-        jobs = [PendingJob(t, qhull=None if per_case is None else bool(per_case.get(t.case.case_id, False)))
-                for t in merged.values()]
+
+        def reference(t: Task) -> bool | None:
+            return None if per_case is None else bool(per_case.get(t.case.case_id, False))
+
+        jobs = [PendingJob(t, qhull=reference(t)) for t in merged.values()]
+        jobs += [PendingJob(t, qhull=reference(t), fresh_worker=True) for t in separate]
         self._pool.run(jobs, settings, keep, self.stats)
         out = []
         for t in tasks:

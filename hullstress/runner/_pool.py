@@ -201,6 +201,10 @@ class PendingJob:
     deaths: int = 0
     #: Compute the Qhull reference with the case facts (None: the run's ``PoolSettings.qhull``).
     qhull: bool | None = None
+    #: Run only in a worker that has run nothing else since it started: whether native code
+    #: dies can depend on what its process did before (memory left by earlier calls), and a
+    #: crash is then judged the same way on every run and with any number of workers.
+    fresh_worker: bool = False
     # The pickled job for ``start_at`` (a job that waits for an idle worker is looked at many times).
     wire: tuple[int, bytes] | None = field(default=None, repr=False)
 
@@ -242,6 +246,8 @@ class _Slot:
         self.proc: Any = None
         self.conn: Connection | None = None
         self.jobs: deque[PendingJob] = deque()
+        #: Jobs sent to the current worker since it started (0: a fresh worker).
+        self.served = 0
         #: A worker being started in the background for this slot (see WorkerPool._begin_start).
         self.starting: _Start | None = None
         self.reset_state()
@@ -287,6 +293,8 @@ class WorkerPool:
         # Written by a background start when its worker is up, to wake the loop waiting on its workers
         # (made when first needed, closed with the pool).
         self._wake: tuple[int, int] | None = None
+        self._fresh_waiting: deque[PendingJob] = deque()  # jobs for a fresh worker, stepped aside
+        self._held: int | None = None  # the slot kept free of other jobs to be retired for them
 
     @property
     def size(self) -> int:
@@ -357,6 +365,7 @@ class WorkerPool:
                 raise start.result
             assert start.result is not None
             slot.proc, slot.conn = start.result
+            slot.served = 0
             slot.reset_state()
 
     def _kill(self, slot: _Slot) -> int | None:
@@ -450,6 +459,8 @@ class WorkerPool:
         have room, so a caller that decides its next jobs from the rows it
         gets never waits for a whole batch.
         """
+        self._fresh_waiting.clear()
+        self._held = None
         try:
             self._loop(queue, settings, on_row, stats)
         except BaseException:
@@ -462,9 +473,10 @@ class WorkerPool:
             self._adopt_started()
             self._fill(queue, settings, stats)
             busy = [s for s in self._slots if s.jobs]
-            starting = queue and any(s.starting is not None for s in self._slots)
+            unsent = bool(queue) or bool(self._fresh_waiting)
+            starting = unsent and any(s.starting is not None for s in self._slots)
             if not busy and not starting:
-                if queue:  # only the budget leaves work unsent
+                if unsent:  # only the budget leaves work unsent
                     stats.budget_exhausted = True
                 return
             now = time.monotonic()
@@ -493,9 +505,15 @@ class WorkerPool:
         return settings.timeout if slot.phase == "call" else settings.check_timeout
 
     def _fill(self, queue: deque[PendingJob], settings: PoolSettings, stats: ExecutionStats) -> None:
-        """Send jobs to workers with room, least loaded first."""
+        """Send jobs to workers with room, least loaded first; a job for a fresh worker to a fresh one."""
         broken: set[int] = set()
-        while queue:
+        while True:
+            # A job that needs a fresh worker steps aside, so that the others keep flowing
+            # while a worker is retired and restarted for it.
+            while queue and queue[0].fresh_worker:
+                self._fresh_waiting.append(queue.popleft())
+            if not queue and not self._fresh_waiting:
+                return
             if settings.budget_over():
                 stats.budget_exhausted = True
                 return
@@ -505,30 +523,69 @@ class WorkerPool:
             open_slots = [s for s in self._slots if s.alive and s.index not in broken]
             if not open_slots:
                 return
-            slot = min(open_slots, key=lambda s: len(s.jobs))
+            held = None
+            if self._fresh_waiting:
+                fresh, held = self._fresh_target(open_slots)
+                if fresh is not None:
+                    self._send(fresh, self._fresh_waiting, settings, stats, broken)
+                    continue
+            others = [s for s in open_slots if s is not held and s.alive]  # (one may have been retired)
+            if not queue or not others:
+                return
+            slot = min(others, key=lambda s: len(s.jobs))
             if len(slot.jobs) >= PREFETCH_DEPTH:
                 return
-            job = queue[0]
-            payload = self._payload(job, settings)
-            if slot.jobs and len(payload) > PREFETCH_MAX_BYTES:
+            if slot.jobs and len(self._payload(queue[0], settings)) > PREFETCH_MAX_BYTES:
                 return  # large: it waits until a worker is idle, so the send cannot block
-            queue.popleft()
-            assert slot.conn is not None
-            try:
-                slot.conn.send_bytes(payload)
-            except OSError:
-                # The worker is gone; nothing of this job ran.
-                queue.appendleft(job)
-                if slot.jobs:
-                    # It died during an earlier job: the main loop reads what it
-                    # sent and records the call it died in before replacing it.
-                    broken.add(slot.index)
-                else:
-                    self._restart_after_death(slot, stats)
-                continue
-            if not slot.jobs:
-                slot.phase, slot.t0 = "setup", time.monotonic()
-            slot.jobs.append(job)
+            self._send(slot, queue, settings, stats, broken)
+
+    def _send(self, slot: _Slot, queue: deque[PendingJob], settings: PoolSettings, stats: ExecutionStats,
+              broken: set[int]) -> bool:
+        """Send the first job of ``queue`` to ``slot``; False (the job back in ``queue``) if the worker is gone."""
+        job = queue.popleft()
+        assert slot.conn is not None
+        try:
+            slot.conn.send_bytes(self._payload(job, settings))
+        except OSError:
+            # The worker is gone; nothing of this job ran.
+            queue.appendleft(job)
+            if slot.jobs:
+                # It died during an earlier job: the main loop reads what it
+                # sent and records the call it died in before replacing it.
+                broken.add(slot.index)
+            else:
+                self._restart_after_death(slot, stats)
+            return False
+        if not slot.jobs:
+            slot.phase, slot.t0 = "setup", time.monotonic()
+        slot.jobs.append(job)
+        slot.served += 1
+        return True
+
+    def _fresh_target(self, open_slots: list[_Slot]) -> tuple[_Slot | None, _Slot | None]:
+        """For the next job that needs a fresh worker: (an idle one that has run nothing, a slot held back).
+
+        Without an idle fresh worker, and none starting, one worker is held
+        back from other jobs until it is idle, then retired (not counted as
+        a restart) and started again in the background; the loop wakes when
+        it is up.
+        """
+        fresh = next((s for s in open_slots if not s.jobs and s.served == 0), None)
+        if fresh is not None:
+            return fresh, None
+        if any(s.starting is not None for s in self._slots):
+            return None, None  # a fresh worker is on its way
+        held = self._slots[self._held] if self._held is not None else None
+        if held is None or not held.alive:
+            held = min(open_slots, key=lambda s: (len(s.jobs), s.index))
+            self._held = held.index
+        if held.jobs:
+            return None, held
+        self._kill(held)
+        held.reset_state()
+        self._held = None
+        self._begin_start(held)
+        return None, None
 
     @staticmethod
     def _payload(job: PendingJob, settings: PoolSettings) -> bytes:

@@ -47,7 +47,7 @@ class InFlight:
 
     def __init__(self) -> None:
         self._calls: dict[tuple[str, str], tuple[bool, list[int]]] = {}
-        self._later: dict[tuple[str, str], list[tuple[int, Case, AlgorithmConfig, bool, bool]]] = {}
+        self._later: dict[tuple[str, str], list[tuple[int, Case, AlgorithmConfig, bool, bool, bool]]] = {}
         self._queued: dict[tuple[str, bool], "PendingJob"] = {}  # jobs not taken by the pool yet
         self.calls = 0
 
@@ -57,9 +57,15 @@ class InFlight:
         if self._queued.get(key) is job:
             del self._queued[key]
 
-    def add(self, i: int, case: Case, config: AlgorithmConfig, qhull: bool, *, fresh: bool = False
-            ) -> "PendingJob | None":
-        """Group ``i`` asks: a new job to push, or None when a queued job or a call under way answers it."""
+    def add(self, i: int, case: Case, config: AlgorithmConfig, qhull: bool, *, fresh: bool = False,
+            alone: bool = False) -> "PendingJob | None":
+        """Group ``i`` asks: a new job to push, or None when a queued job or a call under way answers it.
+
+        ``fresh`` re-runs the case on purpose (a call of its own); ``alone``
+        runs the call as a job of its own in a worker that has run nothing
+        before it (a crash is judged so: whether native code dies can depend
+        on what its process did before).
+        """
         from ..runner import PendingJob, Task
 
         key = (case.case_id, config.label)
@@ -68,10 +74,12 @@ class InFlight:
             if under_way[0] == qhull and not fresh:
                 under_way[1].append(i)
             else:
-                self._later.setdefault(key, []).append((i, case, config, qhull, fresh))
+                self._later.setdefault(key, []).append((i, case, config, qhull, fresh, alone))
             return None
         self._calls[key] = (qhull, [i])
         self.calls += 1
+        if alone:
+            return PendingJob(Task(0, case, (config,)), qhull=qhull, fresh_worker=True)
         queued = self._queued.get((case.case_id, qhull))
         if queued is not None:
             queued.task = Task(queued.task.index, case, queued.task.configs + (config,))
@@ -85,8 +93,8 @@ class InFlight:
         """The groups ``row`` answers, with its key for reuse; queues the questions that waited for it."""
         key = (str(row["case_id"]), str(row["config"]))
         qhull, groups = self._calls.pop(key)
-        for k, (i, case, config, other, fresh) in enumerate(self._later.pop(key, [])):
-            job = self.add(i, case, config, other, fresh=fresh)
+        for k, (i, case, config, other, fresh, alone) in enumerate(self._later.pop(key, [])):
+            job = self.add(i, case, config, other, fresh=fresh, alone=alone)
             if job is not None:
                 feed.push(job, priority=(-1, k))  # they waited a whole call already: first
         return [(i, (key[0], key[1], qhull, timeout)) for i in groups]

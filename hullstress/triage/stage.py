@@ -161,8 +161,11 @@ class _Triage:
                         "and may differ between runs", interrupted=False)
 
     def batch(self, requests: Sequence[tuple[np.ndarray, int, AlgorithmConfig, bool]], *,
-              reuse: Sequence[bool] | None = None) -> list[ResultRow]:
+              reuse: Sequence[bool] | None = None, alone: Sequence[bool] | None = None) -> list[ResultRow]:
         """Run (points, dim, config, needs qhull) requests as one batch; rows in request order.
+
+        A request whose ``alone`` is True runs as a job of its own in a worker
+        that has run nothing before it (a crash is judged so).
 
         A request whose ``reuse`` is True is answered by an identical earlier
         call when there was one (same points, config, reference and time limit), without
@@ -190,11 +193,15 @@ class _Triage:
         full = [(cid, label, cid in needs_qhull, self.timeout) for cid, label in keys]
         found: dict[tuple[str, str, bool, float], ResultRow] = {}
         configs: dict[str, list[AlgorithmConfig]] = {}
+        separate: list[tuple[str, AlgorithmConfig]] = []
         for n, ((points, dim, config, needs), key) in enumerate(zip(requests, full)):
             if (reuse is None or reuse[n]) and key in self.answers and key not in found:
                 found[key] = self.answers[key]
                 self.answers.move_to_end(key)
                 self.reused += 1
+            elif alone is not None and alone[n]:
+                if (key[0], config) not in separate:
+                    separate.append((key[0], config))
             elif key not in found:
                 configs.setdefault(key[0], []).append(config)
         # One batch, cases with and without the reference together (a round ends with its slowest call).
@@ -203,9 +210,11 @@ class _Triage:
         # many few-point ones instead of alone at the end.  Rows are matched by task, so the order
         # changes no answer.
         tasks.sort(key=lambda t: -t.case.n_points * len(t.configs))
+        tasks += [Task(len(tasks) + n, cases[cid], (config,)) for n, (cid, config) in enumerate(separate)]
         qhull = {t.case.case_id: t.case.case_id in needs_qhull for t in tasks}
+        flags = [n >= len(tasks) - len(separate) for n in range(len(tasks))]
         for task, rows in zip(tasks, self.pool.run(tasks, timeout=self.timeout, qhull=qhull,
-                                                      qhull_options=self.qhull_options)):
+                                                      qhull_options=self.qhull_options, alone=flags)):
             for config, row in zip(task.configs, rows):
                 key = (task.case.case_id, config.label, qhull[task.case.case_id], self.timeout)
                 found[key] = self.answers[key] = row
@@ -312,7 +321,7 @@ class _Triage:
                 self.answers.move_to_end(key)
                 ready.append((i, self.answers[key]))
                 return
-            job = flight.add(i, case, config, qhull, fresh=fresh)
+            job = flight.add(i, case, config, qhull, fresh=fresh, alone=groups[i].signature.status == Status.CRASH)
             if job is not None:
                 feed.push(job, priority=(asking_now.round, i))
 
@@ -523,7 +532,8 @@ def _verify(run: _Triage, chosen: list[FailureGroup], results: dict[int, ShrinkR
     todo = [i for i in range(len(chosen)) if not results[i].reproduced and chosen[i].signature.status != Status.TIMEOUT]
     run._check_halt()
     rows = run.batch([(np.asarray(results[i].case.points), results[i].case.dim, chosen[i].signature.config,
-                       chosen[i].signature.status == Status.FAIL) for i in todo], reuse=[False] * len(todo))
+                       chosen[i].signature.status == Status.FAIL) for i in todo], reuse=[False] * len(todo),
+                     alone=[chosen[i].signature.status == Status.CRASH for i in todo])
     return {i: signature_of(row) == chosen[i].signature for i, row in zip(todo, rows)}
 
 
