@@ -601,3 +601,117 @@ def test_sum_with_bound_covers_the_exact_sum_of_its_terms():
     a, b, c, d = rows3("jitter", 1)
     total, bound = float_det_sum(3, [a, b, c, d])
     assert abs(Fraction(total) - exact3(a, b, c, d)[0]) <= Fraction(bound) and bound > 0
+
+
+# --------------------------------------------------------------------------- rows built by hand for single stages
+
+
+def test_the_exactness_check_needs_every_difference_of_a_term_exact(monkeypatch):
+    # a, b, d on z = 0 (adz = bdz = 0: the first two terms are exactly 0 whatever their
+    # minors), c one above d, so det = cdz (adx bdy - bdx ady) with cdz = 1.  d_x = 2**-60
+    # makes adx = 1 - 2**-60 round to 1 (inexact) while bdx = 2**-58 - 2**-60 = 3 * 2**-60,
+    # ady = 1 and bdy = 3 * 2**-60 are exact: the float minor is 3 * 2**-60 - 3 * 2**-60 = 0,
+    # every product and sum after the differences exact, the exact minor
+    # (1 - 2**-60) 3 * 2**-60 - 3 * 2**-60 = -3 * 2**-120.
+    a = np.array([[1.0, 1.0, 0.0]])
+    b = np.array([[2.0**-58, 3 * 2.0**-60, 0.0]])
+    c = np.array([[0.0, 0.0, 1.0]])
+    d = np.array([[2.0**-60, 0.0, 0.0]])
+    assert exact3(a, b, c, d) == [Fraction(-3, 2**120)]
+    with np.errstate(all="ignore"):
+        value, ok = P._exact_eval3(*cols(a, b, c, d))
+    assert value.tolist() == [0.0] and ok.tolist() == [False]
+    for few in (0, FEW_FOR_INTEGERS):
+        monkeypatch.setattr(P, "FEW_FOR_INTEGERS", few)
+        assert orient3d(a, b, c, d).tolist() == [-1]
+
+
+def test_a_double_double_value_of_zero_is_no_sign():
+    # c = (1024, 1024) and a, b within 2**-44 of the origin: every difference rounds to -1024
+    # (its low part is the small coordinate; 2**-44 is a tie, to even), so the hi products
+    # cancel and the first-order tails -1024 (a_x + b_y) + 1024 (a_y + b_x) cancel too
+    # (a_x + b_y = a_y + b_x = 5 * 2**-46): the double-double value is exactly 0.  The exact
+    # determinant keeps the second-order part a_x b_y - a_y b_x = 3 * 2**-91 - 2**-90 = 2**-91 > 0.
+    a = np.array([[2.0**-45, 2.0**-46]])
+    b = np.array([[2.0**-44, 3 * 2.0**-46]])
+    c = np.array([[1024.0, 1024.0]])
+    assert exact2(a, b, c) == [Fraction(1, 2**91)]
+    with np.errstate(all="ignore"):
+        value, decided = P._dd_eval2(*cols(a, b, c))
+    assert value.tolist() == [0.0] and decided.tolist() == [False]
+    assert orient2d(a, b, c).tolist() == [1]
+
+
+def test_orient2d_through_the_float_stages_returns_int8(monkeypatch):
+    monkeypatch.setattr(P, "FEW_FOR_INTEGERS", 0)
+    a, b, c = rows2("jitter")
+    assert orient2d(a, b, c).dtype == np.int8
+    assert orient3d(*rows3("jitter")).dtype == np.int8
+    monkeypatch.setattr(P, "FEW_FOR_INTEGERS", FEW_FOR_INTEGERS)
+    assert orient2d(a[:1], b[:1], c[:1]).dtype == np.int8 and orient3d(*(x[:1] for x in rows3("tilted"))).dtype == np.int8
+
+
+def test_an_integer_determinant_of_one_unit_is_positive():
+    # All six coordinates in [1, 2), so one unit is 2**-52 and the integer images are the
+    # coordinates in units: differences x = y = 2**26, z = 2**26 + 1, w = 2**26 - 1 units
+    # give x y - z w = 2**52 - (2**52 - 1) = 1 unit**2.  In float the products are exact
+    # (2**-52 and (2**52 - 1) 2**-104) but the filter's bound 3 eps (|l| + |r|) is above their
+    # difference 2**-104: the row goes to integers, whose value is exactly 1.
+    u = 2.0**-52
+    a = np.array([[1.0 + 2**26 * u, 1.0 + (2**26 + 1) * u]])
+    b = np.array([[1.0 + (2**26 - 1) * u, 1.0 + 2**26 * u]])
+    c = np.array([[1.0, 1.0]])
+    assert exact2(a, b, c) == [Fraction(1, 2**104)]
+    det, bound = filter2(a, b, c)
+    assert det.tolist() == [2.0**-104] and not abs(det[0]) > bound[0]
+    assert orient2d(a, b, c).tolist() == [1]
+
+
+def test_the_mean_covers_the_rounding_of_its_float_sum():
+    # orient2d((0, 0), (1, 0), (0, y)) = y exactly in float (the left product is 0 * -y), with
+    # permanent |y|.  The terms M, 20 times eps M, then -(M + 8 eps M) (M = 2**20, eps = 2**-53):
+    # each eps M added to M is a tie and rounds back to M (to even), so the float sum is
+    # -8 eps M while the exact sum is +12 eps M: the mean is above the line.  The per-row
+    # bounds alone (3 eps times the permanents, about 6 eps M) would call -8 eps M decided;
+    # the summation term must cover the lost 20 eps M.
+    big = 2.0**20
+    ys = [big] + [EPS * big] * 20 + [-(big + 8 * EPS * big)]
+    assert sum(Fraction(y) for y in ys) == 12 * Fraction(EPS) * big
+    cs = [np.array([0.0, y]) for y in ys]
+    assert orient2d_mean(np.zeros(2), np.array([1.0, 0.0]), cs).tolist() == [1]
+
+
+def test_integer_coordinates_are_taken_as_float64():
+    # n = 2**40 + 2**22 is an exact double, and so is n**2 = 2**80 + 2**63 + 2**44 (37
+    # significant bits): in float64 orient2d((0, 0), (n, 0), (0, n)) = n**2 > 0 is computed
+    # exactly.  In int64, n**2 wraps to 2**63 + 2**44 - 2**64 < 0 and the sign would come out
+    # wrong, far beyond the filter's bound.
+    n = 2**40 + 2**22
+    assert exact2([0, 0], [n, 0], [0, n]) == [Fraction(n * n)]
+    assert orient2d([0, 0], [n, 0], [0, n]).tolist() == [1]
+    assert orient3d([0, 0, 0], [n, 0, 0], [0, n, 0], [0, 0, -1]).tolist() == [1]  # d below z = 0
+
+
+#: Products A * B that are not exact doubles (a few found by a random search; their exact
+#: rounding errors are checked with Fractions below), with a first factor of few bits.
+_INEXACT_PRODUCTS = [
+    (float.fromhex("-0x1.2067bf0000000p-23"), float.fromhex("0x1.a947edccbee92p+19")),
+    (float.fromhex("-0x1.e8c61c0000000p+4"), float.fromhex("-0x1.a8308b4d44b90p+34")),
+    (0.1, 0.3),
+]
+
+
+@pytest.mark.parametrize("A, B", _INEXACT_PRODUCTS)
+def test_the_exactness_check_never_claims_a_rounded_product_exact(monkeypatch, A, B):
+    # c = 0, a = (A, fl(A B)), b = (1, B): every difference is exact and the right product
+    # fl(A B) * 1 too, so the float determinant is A B rounded minus itself, 0, while the
+    # exact one is A B - fl(A B), the product's rounding error (not 0).
+    a, b, c = np.array([[A, A * B]]), np.array([[1.0, B]]), np.zeros((1, 2))
+    error = Fraction(A) * Fraction(B) - Fraction(A * B)
+    assert error != 0 and exact2(a, b, c) == [error]
+    with np.errstate(all="ignore"):
+        value, ok = P._exact_eval2(*cols(a, b, c))
+        assert not P._two_prod_exact(np.array([A]), np.array([B]), np.array([A * B]))[0]
+    assert value.tolist() == [0.0] and ok.tolist() == [False]
+    monkeypatch.setattr(P, "FEW_FOR_INTEGERS", 0)
+    assert orient2d(a, b, c).tolist() == [_sign(error)]
