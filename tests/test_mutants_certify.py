@@ -97,3 +97,45 @@ def test_a_polygon_wound_twice_names_point_indices_not_positions():
     cert = certify(pts, np.array([1, 2, 3, 0, 1, 2, 3, 0]), batched=False)
     assert cert.manifoldness is False
     assert sorted(set(cert.offending["manifold_vertices"].tolist())) == [0, 1, 2, 3]
+
+
+def test_a_convex_hull_is_certified_in_one_batch_with_a_witness_simplex():
+    # By default certify tries the one-batch certificate first (closed_mesh.py), which names
+    # dim + 1 affinely independent vertices met on the way (Certificate.witness, reused by
+    # qhull_reference); the general checks name none.  The tetrahedron's four vertices and
+    # three corners of the square are the only such sets here.
+    cert = certify(TETRA, normalize_output(TETRA_FACES, 4, 3))
+    assert cert.certified and sorted(cert.witness.tolist()) == [0, 1, 2, 3]
+    assert certify(TETRA, normalize_output(TETRA_FACES, 4, 3), batched=False).witness is None
+    square = np.delete(SQUARE_PTS, [4, 5, 6], axis=0)
+    cert2 = certify(square, np.array([0, 1, 2, 3]))
+    assert cert2.certified and len(set(cert2.witness.tolist())) == 3 and set(cert2.witness.tolist()) <= {0, 1, 2, 3}
+
+
+def test_the_general_checks_compute_the_half_edges_and_the_measure_once(monkeypatch):
+    # certify hands its half-edges and its measure on to the checks (which would otherwise
+    # build their own): one of each per certificate.
+    import hullstress.checker.certify as certify_module
+    import hullstress.checker.polygon2d as polygon2d_module
+    import hullstress.checker.topology as topology_module
+
+    calls = []
+
+    def counting(module, name):
+        real = getattr(module, name)
+
+        def wrapper(*args, **kwargs):
+            calls.append(name)
+            return real(*args, **kwargs)
+
+        monkeypatch.setattr(module, name, wrapper)
+
+    for module in (certify_module, topology_module, polygon2d_module):
+        counting(module, "surface_measure")
+    for module in (certify_module, topology_module):
+        counting(module, "half_edges")
+    cert = certify(TETRA, normalize_output(TETRA_FACES, 4, 3), batched=False)
+    assert cert.certified and sorted(calls) == ["half_edges", "surface_measure"]
+    calls.clear()
+    cert2 = certify(np.delete(SQUARE_PTS, [4, 5, 6], axis=0), np.array([0, 1, 2, 3]), batched=False)
+    assert cert2.certified and calls == ["surface_measure"]
