@@ -267,6 +267,24 @@ def test_the_sphere_methods_duplicate_tolerance_is_the_configs_policy_on_the_inp
     assert index_map.tolist() == [0, 1, 2, 3]
 
 
+def test_the_sphere_causes_of_each_duplicate_tolerance_are_its_own(monkeypatch):
+    # The square with its corner (2, 2) again one ulp to the right (row 5): the input's hull
+    # has the 4 corners 0, 1, 5, 3 ((2, 2) lies on the top edge).  The scaled duplicate
+    # tolerance (about 6.3e-16) merges row 5 into row 2 and the projection loses one extreme
+    # point; the fixed one (2**-52, below the 2**-51 gap) keeps it and loses none.  Judged one
+    # after the other, each config reports the causes of its own projection.
+    import hullstress.sphere_causes as sc
+
+    monkeypatch.setattr(sc, "_CACHE", type(sc._CACHE)())
+    pts = np.vstack([SQUARE, [[np.nextafter(2.0, 3.0), 2.0]]])
+    case = _case(pts)
+    scaled = evaluate(case, AlgorithmConfig("monotone-chain", "on", "scaled"))
+    fixed = evaluate(case, AlgorithmConfig("monotone-chain", "on", "fixed"))
+    assert (scaled["sphere_extreme"], scaled["sphere_lost_extreme"]) == (4, 1)
+    assert (fixed["sphere_extreme"], fixed["sphere_lost_extreme"]) == (4, 0)
+    assert scaled.status == "fail" and fixed.status == "pass"
+
+
 def test_the_projection_uses_the_duplicate_tolerance_it_is_given_and_names_the_methods_error(monkeypatch):
     # A corner (2, 0) and a point (2.1, -0.1) just outside it, 0.14 apart: with a duplicate
     # tolerance of 0.5 the later one is a duplicate of the corner (the first of a group is

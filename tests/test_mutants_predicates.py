@@ -715,3 +715,30 @@ def test_the_exactness_check_never_claims_a_rounded_product_exact(monkeypatch, A
     assert value.tolist() == [0.0] and ok.tolist() == [False]
     monkeypatch.setattr(P, "FEW_FOR_INTEGERS", 0)
     assert orient2d(a, b, c).tolist() == [_sign(error)]
+
+
+#: (a, b) with c = (1024, 1024): every difference but b_x - c_x rounds to -1024 (their low
+#: parts the small coordinates), b_x - c_x to -(1024 + 2**-42), so |z1 w1| > |x1 y1| by
+#: 2**-32, and the first-order tails cancel that to within a few ulps of the small
+#: coordinates (found by solving for b_x and searching the others).
+_DD_NEAR_ZERO = [
+    ("-0x1.8000000002478p-44", "0x1.ffffffffc3650p-46", "-0x1.3ffffffff9591p-43", "-0x1.fffffffffe456p-46"),
+    ("-0x1.3ffffffff5f23p-44", "0x1.000000000b64ap-46", "-0x1.3ffffffff60fap-43", "-0x1.ffffffffe6a7fp-45"),
+]
+
+
+@pytest.mark.parametrize("row", _DD_NEAR_ZERO)
+def test_a_double_double_value_within_its_error_is_left_open_whatever_the_permanents_order(monkeypatch, row):
+    ax, ay, bx, by = (float.fromhex(h) for h in row)
+    a, b, c = np.array([[ax, ay]]), np.array([[bx, by]]), np.array([[1024.0, 1024.0]])
+    x1, y1, z1, w1 = ax - 1024.0, by - 1024.0, ay - 1024.0, bx - 1024.0
+    assert (x1, y1, z1) == (-1024.0, -1024.0, -1024.0) and w1 == -(1024.0 + 2.0**-42)
+    exact = exact2(a, b, c)[0]
+    # Far below the stage's bound 128 eps**2 P (P about 2**21): the value may be anything
+    # within its error, so the row must stay open.
+    assert exact != 0 and abs(exact) < 128 * Fraction(EPS) ** 2 * 2**21
+    with np.errstate(all="ignore"):
+        _, decided = P._dd_eval2(*cols(a, b, c))
+    assert decided.tolist() == [False]
+    monkeypatch.setattr(P, "FEW_FOR_INTEGERS", 0)
+    assert orient2d(a, b, c).tolist() == [_sign(exact)]
