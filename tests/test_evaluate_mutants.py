@@ -243,6 +243,66 @@ def test_a_case_is_projected_once_per_duplicate_tolerance(monkeypatch):
     for k in range(ev._PROJECTIONS_SIZE + 3):
         ev._preprocess(_case(SQUARE * (k + 2)), AlgorithmConfig("test-ev-hull", "on"))
     assert len(ev._PROJECTIONS) == ev._PROJECTIONS_SIZE
+    seen = len(calls)
+    ev._preprocess(_case(SQUARE * (ev._PROJECTIONS_SIZE + 4)), AlgorithmConfig("test-ev-hull", "on"))
+    assert len(calls) == seen  # the newest is remembered
+    ev._preprocess(case, AlgorithmConfig("test-ev-hull", "on"))
+    assert len(calls) == seen + 1  # the oldest was forgotten
+
+
+def test_the_sphere_methods_duplicate_tolerance_is_the_configs_policy_on_the_input(monkeypatch):
+    # The square's corner (2, 2) again one ulp (2**-51) to the right, last: the scaled tolerance
+    # of these points is machine epsilon times the spread of their distances from the origin,
+    # 2**-52 * 2 sqrt(2), about 6.3e-16 (tolerance.py), above the 4.4e-16 gap, so the later copy
+    # is a duplicate and the corner stays row 2; with no tolerance (0) the copy, further
+    # right, is the support point instead.
+    from hullstress.sphere import sphere_project
+    from hullstress.tolerance import tolerance
+
+    pts = np.vstack([SQUARE, [[np.nextafter(2.0, 3.0), 2.0]]])
+    assert pts[5, 0] - 2.0 == 2.0**-51 < tolerance(pts, "scaled")
+    assert sphere_project(pts, eps=0.0)[1].tolist() == [0, 1, 5, 3]  # not vacuous
+    monkeypatch.setattr(ev, "_PROJECTIONS", type(ev._PROJECTIONS)())
+    _, index_map, _ = ev._preprocess(_case(pts), AlgorithmConfig("test-ev-hull", "on"))
+    assert index_map.tolist() == [0, 1, 2, 3]
+
+
+def test_the_sphere_causes_of_each_duplicate_tolerance_are_its_own(monkeypatch):
+    # The square with its corner (2, 2) again one ulp to the right (row 5): the input's hull
+    # has the 4 corners 0, 1, 5, 3 ((2, 2) lies on the top edge).  The scaled duplicate
+    # tolerance (about 6.3e-16) merges row 5 into row 2 and the projection loses one extreme
+    # point; the fixed one (2**-52, below the 2**-51 gap) keeps it and loses none.  Judged one
+    # after the other, each config reports the causes of its own projection.
+    import hullstress.sphere_causes as sc
+
+    monkeypatch.setattr(sc, "_CACHE", type(sc._CACHE)())
+    pts = np.vstack([SQUARE, [[np.nextafter(2.0, 3.0), 2.0]]])
+    case = _case(pts)
+    scaled = evaluate(case, AlgorithmConfig("monotone-chain", "on", "scaled"))
+    fixed = evaluate(case, AlgorithmConfig("monotone-chain", "on", "fixed"))
+    assert (scaled["sphere_extreme"], scaled["sphere_lost_extreme"]) == (4, 1)
+    assert (fixed["sphere_extreme"], fixed["sphere_lost_extreme"]) == (4, 0)
+    assert scaled.status == "fail" and fixed.status == "pass"
+
+
+def test_the_projection_uses_the_duplicate_tolerance_it_is_given_and_names_the_methods_error(monkeypatch):
+    # A corner (2, 0) and a point (2.1, -0.1) just outside it, 0.14 apart: with a duplicate
+    # tolerance of 0.5 the later one is a duplicate of the corner (the first of a group is
+    # kept), with the default (scaled, about 6e-16) it is the hull's corner instead.
+    from hullstress.sphere import sphere_project
+
+    pts = np.array([[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0], [2.1, -0.1]])
+    assert sphere_project(pts, eps=0.5)[1].tolist() == [0, 1, 2, 3]
+    assert 4 in sphere_project(pts)[1].tolist()  # not vacuous: the tolerance decides
+    projected, index_map = ev._fresh_projection(pts, 0.5)
+    assert index_map.tolist() == [0, 1, 2, 3] and index_map.dtype == np.int64
+    assert projected.dtype == np.float64 and projected.flags.c_contiguous and not projected.flags.writeable
+    # The method's own exception, named with its type and message.
+    def raising(points, eps):
+        raise ValueError("planted failure")
+
+    monkeypatch.setattr("hullstress.sphere.sphere_project", raising)
+    assert ev._fresh_projection(pts, 0.5) == "sphere projection: ValueError: planted failure"
 
 
 def test_call_outcome_kinds_and_what_they_carry():
