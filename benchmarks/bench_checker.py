@@ -32,7 +32,6 @@ Prints Markdown tables.
 from __future__ import annotations
 
 import argparse
-import shutil
 import subprocess
 import sys
 import tempfile
@@ -42,6 +41,7 @@ from pathlib import Path
 import numpy as np
 from scipy.spatial import ConvexHull
 
+from hullstress.adapters.executable import locate_program
 from hullstress.checker import check, qhull_reference
 from hullstress.io import write_points
 
@@ -77,7 +77,7 @@ def brute_numpy(points: np.ndarray, equations: np.ndarray) -> float:
 
 
 def qconvex_times(points: np.ndarray, repeat: int) -> tuple[float, float] | None:
-    exe = shutil.which("qconvex")
+    exe = locate_program("qconvex")  # PATH, or where cmeel-qhull (the `all` extra) puts it
     if exe is None:
         return None
     with tempfile.TemporaryDirectory() as tmp:
@@ -211,7 +211,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.n:
         print()
         print("\n".join(large(args.n, args.repeat, args.seed, args.brute, clock)))
-        if shutil.which("qconvex"):
+        if locate_program("qconvex"):
             print("\n(qconvex includes parsing its text input.)")
     return 0
 
