@@ -77,11 +77,16 @@ CONFIGS = (AlgorithmConfig("test-stage-drop", "off", "scaled"), AlgorithmConfig(
            AlgorithmConfig("test-stage-raise"), AlgorithmConfig("test-stage-crash"))
 
 
+def _load(tmp_path_factory, name: str, text: str) -> None:
+    """Write plug-in ``text`` to a fresh folder as ``name`` and load it (workers import it by path)."""
+    path = tmp_path_factory.mktemp(name.replace("_", "-")) / f"{name}.py"
+    path.write_text(text)
+    load_plugin(str(path))
+
+
 @pytest.fixture(scope="module")
 def sweep(tmp_path_factory):
-    path = tmp_path_factory.mktemp("stage-plugin") / "stage_plugins.py"
-    path.write_text(PLUGIN)
-    load_plugin(str(path))
+    _load(tmp_path_factory, "stage_plugins", PLUGIN)
     rng = np.random.default_rng(11)
     cases = []
     for k, n in enumerate((16, 20, 24)):
@@ -188,9 +193,7 @@ HISTORY_PLUGIN = textwrap.dedent(
 
 @pytest.fixture(scope="module")
 def history_sweep(tmp_path_factory):
-    path = tmp_path_factory.mktemp("history-plugin") / "history_plugins.py"
-    path.write_text(HISTORY_PLUGIN)
-    load_plugin(str(path))
+    _load(tmp_path_factory, "history_plugins", HISTORY_PLUGIN)
     rng = np.random.default_rng(5)
     cases = [Case(points=rng.uniform(-10, 10, size=(n, 2)), dim=2, family="test-history", seed=n, size=n)
              for n in (12, 16)]
