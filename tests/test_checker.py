@@ -430,10 +430,8 @@ def test_left_out_extreme_points_are_found_by_the_fast_path(seed, drop, dim):
 
 
 def test_cone_and_brute_containment_agree():
-    from hullstress.checker._geometry import Interior
     from hullstress.checker.containment import check_containment3d
     from hullstress.checker.convexity3d import check_convexity3d
-    from hullstress.checker.rank import witness_simplex
     from hullstress.checker.topology import half_edges
 
     rng = np.random.default_rng(17)
@@ -443,7 +441,6 @@ def test_cone_and_brute_containment_agree():
     probes = np.r_[inner * 1.0000001, inner * 0.999, ball(rng, 2000, 3) * 1.2, inner[hull.indices[:30]]]
     pts = np.r_[inner, probes]
     he = half_edges(hull, len(pts))
-    interior = Interior.from_simplex(pts[witness_simplex(inner)])
     conv = check_convexity3d(pts, hull, he, closed=True)
     assert conv.ok and conv.center is not None
     fast = check_containment3d(pts, hull, conv.plane, certified=True, center=conv.center, he=he)

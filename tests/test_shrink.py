@@ -344,9 +344,9 @@ def test_an_interrupted_shrink_without_the_reference_keeps_the_sweep_case():
                      "failed_checks": "containment", "severity": "gross"})
     case = Case.from_points(np.column_stack([np.arange(8.0), np.zeros(8)]), family="made-up")
     shrinker = Shrinker(case, sig, max_calls=50)
-    question = shrinker.ask()
+    shrinker.ask()
     for _ in range(3):
-        question = shrinker.answer(row)
+        shrinker.answer(row)
     result = shrinker.stop("interrupted")
     assert not result.reproduced and result.case is case and result.note == "interrupted"
 

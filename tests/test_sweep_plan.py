@@ -9,7 +9,6 @@ import pandas as pd
 import pytest
 
 from hullstress.cli import main
-from hullstress.errors import UsageError
 from hullstress.options import PROFILES
 from hullstress.registry import generators
 from hullstress.sweep import SweepOptions, build_cases, build_tasks
