@@ -207,7 +207,7 @@ def _projection(case: Case, duplicate_eps: float) -> tuple[np.ndarray, np.ndarra
     known = _PROJECTIONS.get(key)
     if known is None:
         known = _fresh_projection(case.points, duplicate_eps)
-        if key == key:  # a NaN tolerance (non-finite input) is never equal to itself: not kept
+        if duplicate_eps == duplicate_eps:  # a NaN tolerance (non-finite input) would never be found again
             _PROJECTIONS[key] = known
             while len(_PROJECTIONS) > _PROJECTIONS_SIZE:
                 _PROJECTIONS.popitem(last=False)

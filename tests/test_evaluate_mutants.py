@@ -248,6 +248,12 @@ def test_a_case_is_projected_once_per_duplicate_tolerance(monkeypatch):
     assert len(calls) == seen  # the newest is remembered
     ev._preprocess(case, AlgorithmConfig("test-ev-hull", "on"))
     assert len(calls) == seen + 1  # the oldest was forgotten
+    # A NaN tolerance is never equal to itself, so it is not kept either (a tuple holding one
+    # NaN object does equal itself: the test is on the tolerance, not on the key).
+    before = dict(ev._PROJECTIONS)
+    with pytest.raises(ev.PreprocessError):
+        ev._projection(_case(SQUARE * 3.5), float("nan"))
+    assert dict(ev._PROJECTIONS) == before
 
 
 def test_the_sphere_methods_duplicate_tolerance_is_the_configs_policy_on_the_input(monkeypatch):
