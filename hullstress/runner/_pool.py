@@ -540,8 +540,8 @@ class WorkerPool:
             self._send(slot, queue, settings, stats, broken)
 
     def _send(self, slot: _Slot, queue: deque[PendingJob], settings: PoolSettings, stats: ExecutionStats,
-              broken: set[int]) -> bool:
-        """Send the first job of ``queue`` to ``slot``; False (the job back in ``queue``) if the worker is gone."""
+              broken: set[int]) -> None:
+        """Send the first job of ``queue`` to ``slot``; if the worker is gone, the job goes back to ``queue``."""
         job = queue.popleft()
         assert slot.conn is not None
         try:
@@ -555,12 +555,11 @@ class WorkerPool:
                 broken.add(slot.index)
             else:
                 self._restart_after_death(slot, stats)
-            return False
+            return
         if not slot.jobs:
             slot.phase, slot.t0 = "setup", time.monotonic()
         slot.jobs.append(job)
         slot.served += 1
-        return True
 
     def _fresh_target(self, open_slots: list[_Slot]) -> tuple[_Slot | None, _Slot | None]:
         """For the next job that needs a fresh worker: (an idle one that has run nothing, a slot held back).

@@ -210,9 +210,10 @@ class _Triage:
         # many few-point ones instead of alone at the end.  Rows are matched by task, so the order
         # changes no answer.
         tasks.sort(key=lambda t: -t.case.n_points * len(t.configs))
-        tasks += [Task(len(tasks) + n, cases[cid], (config,)) for n, (cid, config) in enumerate(separate)]
+        own = [Task(len(tasks) + n, cases[cid], (config,)) for n, (cid, config) in enumerate(separate)]
+        flags = [False] * len(tasks) + [True] * len(own)
+        tasks += own
         qhull = {t.case.case_id: t.case.case_id in needs_qhull for t in tasks}
-        flags = [n >= len(tasks) - len(separate) for n in range(len(tasks))]
         for task, rows in zip(tasks, self.pool.run(tasks, timeout=self.timeout, qhull=qhull,
                                                       qhull_options=self.qhull_options, alone=flags)):
             for config, row in zip(task.configs, rows):
