@@ -14,6 +14,7 @@ import subprocess
 import sys
 import textwrap
 import time
+from collections import deque
 from pathlib import Path
 
 import numpy as np
@@ -461,6 +462,45 @@ def test_call_pool_uses_every_worker(plugin):
         rows = pool.run([Task(i, c, (AlgorithmConfig(P + "pid"),)) for i, c in enumerate(cases)],
                         timeout=5.0, qhull=False)
     assert len({r[0]["reason"] for r in rows}) == 2
+
+
+class _RecordingPipe:
+    """A worker's pipe end that only records what the parent sends (no worker behind it)."""
+
+    def __init__(self) -> None:
+        self.sent: list[bytes] = []
+
+    def send_bytes(self, payload: bytes) -> None:
+        self.sent.append(payload)
+
+
+@pytest.mark.parametrize("n_points, prefetch, expected", [
+    (6, 2, 2),  # the sweep's default: one running, one waiting
+    (6, 8, 8),  # streamed one-call jobs (triage): eight
+    (600, 8, 4),  # about 10 KB each: the jobs waiting in a pipe stay within PREFETCH_MAX_BYTES together
+    (2100, 8, 1),  # over 32 KiB: sent only to an idle worker
+])
+def test_jobs_queued_per_worker_follow_the_prefetch_depth_and_the_byte_cap(n_points, prefetch, expected):
+    from hullstress.runner._pool import PREFETCH_MAX_BYTES, WorkerPool
+
+    pool = WorkerPool(1)
+    slot = pool._slots[0]
+    slot.proc, slot.conn = object(), _RecordingPipe()  # taken for a live worker: nothing is started
+    config = AlgorithmConfig("monotone-chain")
+    queue = deque(PendingJob(Task(i, c, (config,))) for i, c in enumerate(_cases(10, n_points=n_points)))
+    settings = PoolSettings(timeout=1.0, check_timeout=1.0, prefetch=prefetch)
+    pool._fill(queue, settings, ExecutionStats())
+    assert len(slot.conn.sent) == len(slot.jobs) == expected
+    assert len(queue) == 10 - expected
+    assert sum(map(len, slot.conn.sent[1:])) <= PREFETCH_MAX_BYTES
+
+
+def test_streamed_jobs_are_prefetched_deeper_than_the_sweeps():
+    from hullstress.runner import STREAM_PREFETCH
+    from hullstress.runner._pool import PREFETCH_DEPTH
+
+    assert PoolSettings(timeout=1.0, check_timeout=1.0).prefetch == PREFETCH_DEPTH == 2
+    assert STREAM_PREFETCH > PREFETCH_DEPTH
 
 
 # -- bad options -------------------------------------------------------------------

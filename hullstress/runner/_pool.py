@@ -59,10 +59,11 @@ from ._worker import worker_main
 
 __all__ = ["WorkerPool", "PoolSettings", "PendingJob", "JobFeed", "start_method"]
 
-#: A job message this small may wait in a busy worker's pipe (prefetch): it
-#: fits the socket buffer, so sending it never blocks the parent.
+#: Jobs waiting in a busy worker's pipe (prefetch) take at most this many bytes
+#: together: they fit the socket buffer, so sending one never blocks the parent.
+#: A larger job waits until a worker is idle.
 PREFETCH_MAX_BYTES = 32 * 1024
-#: Jobs queued per worker: the one running plus one waiting in its pipe.
+#: Jobs queued per worker by default: the one running plus one waiting in its pipe.
 PREFETCH_DEPTH = 2
 #: A task whose worker dies this often outside any call is given up on.
 MAX_DEATHS_OUTSIDE_CALLS = 2
@@ -178,6 +179,10 @@ class PoolSettings:
         ``time.time()`` after which no new call starts.
     refs : mapping of str to AlgorithmRef
         For every algorithm the tasks use.
+    prefetch : int
+        Jobs queued per worker: the one running and ``prefetch - 1`` waiting
+        in its pipe (within :data:`PREFETCH_MAX_BYTES`), so that a worker
+        that ends a job starts the next one without waiting for the parent.
     """
 
     timeout: float
@@ -186,6 +191,7 @@ class PoolSettings:
     budget_deadline: float | None = None
     refs: dict[str, AlgorithmRef] = field(default_factory=dict)
     qhull_options: str | None = None
+    prefetch: int = PREFETCH_DEPTH
 
     def budget_over(self) -> bool:
         return self.budget_deadline is not None and time.time() >= self.budget_deadline
@@ -533,11 +539,16 @@ class WorkerPool:
             if not queue or not others:
                 return
             slot = min(others, key=lambda s: len(s.jobs))
-            if len(slot.jobs) >= PREFETCH_DEPTH:
+            if len(slot.jobs) >= max(1, settings.prefetch):
                 return
-            if slot.jobs and len(self._payload(queue[0], settings)) > PREFETCH_MAX_BYTES:
-                return  # large: it waits until a worker is idle, so the send cannot block
+            if slot.jobs and self._waiting_bytes(slot, settings) + len(self._payload(queue[0], settings)) \
+                    > PREFETCH_MAX_BYTES:
+                return  # it waits until a worker has room, so the send cannot block
             self._send(slot, queue, settings, stats, broken)
+
+    def _waiting_bytes(self, slot: _Slot, settings: PoolSettings) -> int:
+        """Bytes of the jobs sent to ``slot`` behind the one it runs (still in its pipe)."""
+        return sum(len(self._payload(job, settings)) for job in list(slot.jobs)[1:])
 
     def _send(self, slot: _Slot, queue: deque[PendingJob], settings: PoolSettings, stats: ExecutionStats,
               broken: set[int]) -> None:
