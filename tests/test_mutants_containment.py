@@ -1040,3 +1040,71 @@ def test_brute_force_up_to_small_entries(monkeypatch, dim):
         monkeypatch.setattr(cm, "_SMALL", small)
         res = run()
         assert res.outside.tolist() == want and res.method == method, small
+
+
+# --------------------------------------------------------------------------- undecided entries of points already outside
+
+
+def _lattice_with_a_wrong_hull() -> tuple[np.ndarray, np.ndarray]:
+    """Integer points on the plane z = 0 and two layers above it, and the outward hull of a few of them.
+
+    Many points lie exactly on facet planes (float distance 0: undecided) and
+    are outside another facet by far: the entries the exact stages skip.
+    """
+    g = np.arange(6, dtype=np.float64)
+    plane = np.array([[x, y, 0.0] for x in g for y in g])
+    above = np.array([[x, y, z] for x in (1.0, 3.0) for y in (1.0, 4.0) for z in (1.0, 2.0)])
+    pts = np.vstack([plane, above])
+    kept = [0, 2, 12, 14, 36, 39]  # (0,0,0), (0,2,0), (2,0,0), (2,2,0) and two points above
+    hull = ConvexHull(pts[kept])
+    facets = np.array(kept)[hull.simplices]
+    for row, eq in zip(facets, hull.equations):  # outward: the normal (b - a) x (c - a) along Qhull's
+        a, b, c = pts[row]
+        if np.dot(np.cross(b - a, c - a), eq[:3]) < 0:
+            row[[1, 2]] = row[[2, 1]]
+    return pts, facets
+
+
+def test_brute_skips_only_entries_that_cannot_change_its_answer(monkeypatch):
+    pts, facets = _lattice_with_a_wrong_hull()
+    planes = [pts[facets[:, k]] for k in range(3)]
+    candidates = np.arange(len(pts))
+    seen: list[tuple[int, int]] = []
+    still_open = cm._still_open
+
+    def counting(gi, gf, *args):
+        kept = still_open(gi, gf, *args)
+        seen.append((len(gi), len(kept[0])))
+        return kept
+
+    monkeypatch.setattr(cm, "_still_open", counting)
+    outside, worst = cm._brute(pts, planes, facets, candidates)
+    monkeypatch.setattr(cm, "_still_open", lambda gi, gf, *args: (gi, gf))
+    every_outside, every_worst = cm._brute(pts, planes, facets, candidates)
+    assert sum(before - after for before, after in seen) > 0  # undecided entries were skipped
+    assert outside.tolist() == every_outside.tolist() == _exact_outside(pts, facets)
+    assert worst == every_worst > 0
+
+
+def test_an_undecided_entry_farther_than_every_decided_one_is_still_decided():
+    # Point 0 is outside facet 0 by far (decided in floats) and outside facet 1 by a distance that
+    # overflows there (undecided, an infinite float distance): its exact sign is taken, as the
+    # largest distance could be that one; reported distances are finite, so it adds 0.
+    gi, gf = np.array([0, 0]), np.array([0, 1])
+    outside = np.array([[True, False]])
+    s = np.array([[2.0, np.inf]])
+    norm = np.array([1.0, 1.0])
+    kept = cm._still_open(gi, gf, outside, s, norm, 0.0)
+    assert kept[0].tolist() == [0] and kept[1].tolist() == [1]
+    s = np.array([[2.0, 1.5]])  # nearer than the decided one: skipped
+    assert cm._still_open(gi, gf, outside, s, norm, 0.0)[1].tolist() == []
+    assert cm._still_open(gi, gf, outside, s, norm, 1.0)[1].tolist() == []
+    s = np.array([[2.0, 2.5]])  # farther: kept, unless an earlier chunk's is farther still
+    assert cm._still_open(gi, gf, outside, s, norm, 0.0)[1].tolist() == [1]
+    assert cm._still_open(gi, gf, outside, s, norm, 3.0)[1].tolist() == []
+    # A point not yet outside keeps every undecided entry, however near, beside one that is outside.
+    gi, gf = np.array([0, 1, 1]), np.array([1, 0, 1])
+    outside = np.array([[True, False], [False, False]])
+    s = np.array([[5.0, 0.5], [-0.5, 0.0]])
+    kept = cm._still_open(gi, gf, outside, s, norm, 9.0)
+    assert kept[0].tolist() == [1, 1] and kept[1].tolist() == [0, 1]
