@@ -1086,25 +1086,29 @@ def test_brute_skips_only_entries_that_cannot_change_its_answer(monkeypatch):
     assert worst == every_worst > 0
 
 
+def _open_facets(gi, gf, outside, s, norm, worst):
+    with np.errstate(all="raise"):  # the rule keeps its own floating-point state
+        kept = cm._still_open(np.array(gi), np.array(gf), np.array(outside), np.array(s, dtype=float),
+                              np.array(norm, dtype=float), worst)
+    return list(zip(kept[0].tolist(), kept[1].tolist()))
+
+
 def test_an_undecided_entry_farther_than_every_decided_one_is_still_decided():
-    # Point 0 is outside facet 0 by far (decided in floats) and outside facet 1 by a distance that
-    # overflows there (undecided, an infinite float distance): its exact sign is taken, as the
-    # largest distance could be that one; reported distances are finite, so it adds 0.
-    gi, gf = np.array([0, 0]), np.array([0, 1])
-    outside = np.array([[True, False]])
-    s = np.array([[2.0, np.inf]])
-    norm = np.array([1.0, 1.0])
-    kept = cm._still_open(gi, gf, outside, s, norm, 0.0)
-    assert kept[0].tolist() == [0] and kept[1].tolist() == [1]
-    s = np.array([[2.0, 1.5]])  # nearer than the decided one: skipped
-    assert cm._still_open(gi, gf, outside, s, norm, 0.0)[1].tolist() == []
-    assert cm._still_open(gi, gf, outside, s, norm, 1.0)[1].tolist() == []
-    s = np.array([[2.0, 2.5]])  # farther: kept, unless an earlier chunk's is farther still
-    assert cm._still_open(gi, gf, outside, s, norm, 0.0)[1].tolist() == [1]
-    assert cm._still_open(gi, gf, outside, s, norm, 3.0)[1].tolist() == []
+    # Point 0 is outside facet 0 (decided in floats) at distance 4 / 2 = 2.  Its undecided entry
+    # on facet 1 matters only if farther: 12 / 4 = 3 is, 6 / 4 = 1.5 is not; an earlier chunk's
+    # distance of 5 outdoes both.
+    norm = [2.0, 4.0]
+    assert _open_facets([0], [1], [[True, False]], [[4.0, 12.0]], norm, 0.0) == [(0, 1)]
+    assert _open_facets([0], [1], [[True, False]], [[4.0, 6.0]], norm, 0.0) == []
+    assert _open_facets([0], [1], [[True, False]], [[4.0, 12.0]], norm, 5.0) == []
+    # Only decided outside entries count: facet 1's 100 / 2 is not one of them.
+    got = _open_facets([0], [2], [[True, False, False]], [[4.0, 100.0, 12.0]], [2.0, 2.0, 4.0], 0.0)
+    assert got == [(0, 2)]
+    # An infinite distance (a zero normal) is reported as 0 by _brute: it raises no bar, and an
+    # undecided entry with an infinite distance is kept (its exact sign is cheap to take).
+    assert _open_facets([0], [1], [[True, False]], [[4.0, 6.0]], [0.0, 4.0], 0.0) == [(0, 1)]
+    assert _open_facets([0], [1], [[True, False]], [[4.0, 1.0]], [2.0, 0.0], 0.0) == [(0, 1)]
     # A point not yet outside keeps every undecided entry, however near, beside one that is outside.
-    gi, gf = np.array([0, 1, 1]), np.array([1, 0, 1])
-    outside = np.array([[True, False], [False, False]])
-    s = np.array([[5.0, 0.5], [-0.5, 0.0]])
-    kept = cm._still_open(gi, gf, outside, s, norm, 9.0)
-    assert kept[0].tolist() == [1, 1] and kept[1].tolist() == [0, 1]
+    kept = _open_facets([0, 1, 1], [1, 0, 1], [[True, False], [False, False]], [[5.0, 0.5], [-0.5, 0.0]],
+                        norm, 9.0)
+    assert kept == [(1, 0), (1, 1)]

@@ -221,9 +221,10 @@ def _still_open(gi: np.ndarray, gf: np.ndarray, outside: np.ndarray, s: np.ndarr
     hit = outside.any(axis=1)
     if not hit.any():
         return gi, gf
-    with np.errstate(all="ignore"):
-        known = np.nan_to_num(np.where(outside[hit], s[hit] / norm, 0.0), nan=0.0, posinf=0.0, neginf=0.0)
-        bar = max(worst, float(known.max()))
+    with np.errstate(all="ignore"):  # a zero normal or an overflow: inf and NaN, reported as 0 (_brute)
+        known = s[hit] / norm
+        known = known[outside[hit] & np.isfinite(known)]
+        bar = max(worst, float(known.max())) if known.size else worst
         keep = ~hit[gi] | (s[gi, gf] / norm[gf] > bar)
     return gi[keep], gf[keep]
 
