@@ -1,4 +1,4 @@
-"""Exact rational geometry for the generator tests, independent of generators._common (which is under test)."""
+"""Exact rational geometry for the tests, independent of the code under test (generators._common, the checker)."""
 
 from __future__ import annotations
 
@@ -26,6 +26,23 @@ def orient_frac(rows: list[list[Fraction]]) -> Fraction:
     """det[p1 - p0, ..., pd - p0] for d+1 rational points of dimension d."""
     base = rows[0]
     return det_frac([[r[j] - base[j] for j in range(len(base))] for r in rows[1:]])
+
+
+def orient2d(a, b, c):
+    """Exact orient2d of integer or Fraction points: positive when ``c`` is left of ``a -> b``."""
+    return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+
+
+def winding_number(ring, o) -> int:
+    """The winding number of a closed (x, y) polygon of integer or Fraction points around ``o`` (not on it)."""
+    w = 0
+    for i, a in enumerate(ring):
+        b = ring[(i + 1) % len(ring)]
+        if a[1] <= o[1] < b[1] and orient2d(a, b, o) > 0:
+            w += 1
+        elif b[1] <= o[1] < a[1] and orient2d(a, b, o) < 0:
+            w -= 1
+    return w
 
 
 def affine_rank(points: np.ndarray) -> int:

@@ -29,6 +29,8 @@ from itertools import combinations
 import numpy as np
 from scipy.spatial import ConvexHull, QhullError
 
+from _exact import winding_number as _winding
+
 #: Qhull's REALepsilon, and the severity and volume-tolerance multiples that DESIGN.md's
 #: severity and Qhull agreement use (10 DISTround; restated here, not imported).
 EPS = 2.0**-52
@@ -586,18 +588,6 @@ def _segments_meet(p1, p2, q1, q2) -> bool:
     if o1 == o2 == 0:
         return all(min(p1[i], p2[i]) <= max(q1[i], q2[i]) and min(q1[i], q2[i]) <= max(p1[i], p2[i]) for i in range(2))
     return o1 * o2 <= 0 and o3 * o4 <= 0
-
-
-def _winding(ring, c) -> int:
-    """Winding number of the closed polygon around c (c on no edge), exactly."""
-    w = 0
-    for a, b in zip(ring, ring[1:] + ring[:1]):
-        side = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
-        if a[1] <= c[1] < b[1] and side > 0:
-            w += 1
-        elif b[1] <= c[1] < a[1] and side < 0:
-            w -= 1
-    return w
 
 
 def _surface_area(pts, faces) -> Fraction:

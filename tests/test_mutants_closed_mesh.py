@@ -25,6 +25,8 @@ from hullstress.checker import closed_mesh
 from hullstress.checker.closed_mesh import certify_closed_mesh, certify_convex_polygon
 from hullstress.contract import FaceSet
 
+from _exact import orient2d as _orient, winding_number as _winding
+
 # --------------------------------------------------------------------------- inputs
 
 #: The square ring (+-2, 0, 0), (0, +-2, 0) of the octahedron, counter-clockwise seen from +z.
@@ -65,22 +67,6 @@ _RAYS_2D = [(0, 0), (0.3, 0.1), (1, 0), (0, 1), (-1, 0), (0, -1)]
 def _force_ray(monkeypatch, q) -> None:
     monkeypatch.setattr(closed_mesh, "ray_point", lambda origin, extent, seed: np.array(q, dtype=np.float64))
 
-
-def _orient(a, b, c) -> int:
-    """Exact orient2d of integer (or Fraction) points."""
-    return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
-
-
-def _winding(poly, o) -> int:
-    """The winding number of a closed integer polygon around a point not on it (exact)."""
-    w = 0
-    for i, a in enumerate(poly):
-        b = poly[(i + 1) % len(poly)]
-        if a[1] <= o[1] < b[1] and _orient(a, b, o) > 0:
-            w += 1
-        elif b[1] <= o[1] < a[1] and _orient(a, b, o) < 0:
-            w -= 1
-    return w
 
 
 def _mean(pts):

@@ -26,6 +26,8 @@ from hullstress.checker.convexity3d import check_convexity3d
 from hullstress.checker.topology import half_edges
 from hullstress.contract import FaceSet
 
+from _exact import winding_number as _winding
+
 _CUBE = np.array([[2 * (v >> 2) - 1, 2 * ((v >> 1) & 1) - 1, 2 * (v & 1) - 1] for v in range(8)], dtype=np.float64)
 #: Vertex v = 4x + 2y + z (bits), each quadrilateral counter-clockwise seen from outside.
 _CUBE_QUADS = [[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 4], [1, 5, 7, 3]]
@@ -259,21 +261,6 @@ def test_no_reflex_edge_next_to_a_face_without_a_plane(closed):
 #: joined every fourth: the star {9/4}, every turn left, winding four times around the origin.
 _CIRCLE9 = [(98, 20), (62, 78), (-3, 100), (-66, 75), (-99, 15), (-85, -52), (-32, -95), (37, -93), (88, -48)]
 _STAR94 = [(4 * t) % 9 for t in range(9)]
-
-
-def _winding(ring, o) -> int:
-    """The winding number of a closed (x, y) polygon around a point not on it (exact)."""
-    def orient(a, b, c):
-        return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
-
-    w = 0
-    for i, a in enumerate(ring):
-        b = ring[(i + 1) % len(ring)]
-        if a[1] <= o[1] < b[1] and orient(a, b, o) > 0:
-            w += 1
-        elif b[1] <= o[1] < a[1] and orient(a, b, o) < 0:
-            w -= 1
-    return w
 
 
 def test_a_star_bipyramid_winding_four_times_is_counted_around_its_vertex_mean():

@@ -25,6 +25,8 @@ from hullstress.checker._geometry import (
 )
 from hullstress.checker.predicates import filter3
 
+from _exact import frac_rows, orient_frac
+
 # --------------------------------------------------------------------------- exact_scale
 
 
@@ -164,15 +166,8 @@ def test_point_plane_distance_never_lets_inf_or_nan_out():
 def _exact_orient(rows) -> Fraction:
     """The orientation determinant of (a, b, c[, d]) in Fractions: positive when the last
     point is left of a -> b (2D) or below the plane of a counter-clockwise a, b, c (3D)."""
-    *base, d = [[Fraction(float(x)) for x in r] for r in rows]
-    m = [[x - y for x, y in zip(r, d)] for r in base]
-    if len(d) == 2:
-        return m[0][0] * m[1][1] - m[0][1] * m[1][0]
-    return (
-        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
-        - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
-        + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
-    )
+    *base, d = rows
+    return orient_frac(frac_rows(np.asarray([d, *base])))
 
 
 def _exact_distance_squared(plane, center) -> Fraction:

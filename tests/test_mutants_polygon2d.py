@@ -22,10 +22,9 @@ import numpy as np
 
 from hullstress.checker.polygon2d import check_polygon2d
 
+from _exact import orient2d as _orient, winding_number as _winding
 
-def _orient(a, b, c):
-    """Exact orient2d of integer or Fraction points."""
-    return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+
 
 
 def _turns(ring):
@@ -125,18 +124,6 @@ def test_a_slit_towards_the_vertex_mean_is_neither_convex_nor_simple():
 #: line) has its centroid (-11, -20) in a tip of the star, strictly right of two edges.
 _CIRCLE9 = [(98, 20), (62, 78), (-3, 100), (-66, 75), (-99, 15), (-85, -52), (-32, -95), (37, -93), (88, -48)]
 _STAR94 = [(4 * t) % 9 for t in range(9)]
-
-
-def _winding(ring, o) -> int:
-    """The winding number of a closed polygon around a point not on it (exact)."""
-    w = 0
-    for i, a in enumerate(ring):
-        b = ring[(i + 1) % len(ring)]
-        if a[1] <= o[1] < b[1] and _orient(a, b, o) > 0:
-            w += 1
-        elif b[1] <= o[1] < a[1] and _orient(a, b, o) < 0:
-            w -= 1
-    return w
 
 
 def test_a_star_winding_four_times_is_counted_around_its_vertex_mean():

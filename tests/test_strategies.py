@@ -25,17 +25,12 @@ from hullstress.strategies import (
     ulp_perturbed,
 )
 
+from _exact import frac_rows, orient_frac
+
 
 def det(rows) -> Fraction:
-    p = [[Fraction(float(x)) for x in r] for r in rows]
-    m = [[r[j] - p[0][j] for j in range(len(p[0]))] for r in p[1:]]
-    if len(m) == 2:
-        return m[0][0] * m[1][1] - m[0][1] * m[1][0]
-    return (
-        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
-        - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
-        + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
-    )
+    """The exact orientation determinant of the rows (their doubles as rationals)."""
+    return orient_frac(frac_rows(np.asarray(rows)))
 
 
 @given(family_cases(max_size=30))
