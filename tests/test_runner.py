@@ -496,8 +496,7 @@ def test_jobs_queued_per_worker_follow_the_prefetch_depth_and_the_byte_cap(n_poi
 
 
 def test_streamed_jobs_are_prefetched_deeper_than_the_sweeps():
-    from hullstress.runner import STREAM_PREFETCH
-    from hullstress.runner._pool import PREFETCH_DEPTH
+    from hullstress.runner._pool import PREFETCH_DEPTH, STREAM_PREFETCH
 
     assert PoolSettings(timeout=1.0, check_timeout=1.0).prefetch == PREFETCH_DEPTH == 2
     assert STREAM_PREFETCH > PREFETCH_DEPTH

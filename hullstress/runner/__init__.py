@@ -32,17 +32,10 @@ from ..config import AlgorithmConfig
 from ..errors import HullstressError
 from ..evaluate import CaseFacts
 from ..results import ResultRow
-from ._pool import JobFeed, PendingJob, PoolSettings, WorkerPool, start_method
+from ._pool import STREAM_PREFETCH, JobFeed, PendingJob, PoolSettings, WorkerPool, start_method
 from ._protocol import algorithm_refs, refs_for_configs
 from ._serial import run_serial
 from ._types import DEFAULT_CHECK_TIMEOUT, DEFAULT_MEMORY_LIMIT_MB, ExecutionStats, RunnerOptions, Task
-
-#: Jobs queued per worker when a caller streams one-call jobs (:meth:`CallPool.stream`, parallel
-#: triage): such a job lasts milliseconds, and the parent, which decides the next jobs from the
-#: answers and runs at a lower priority than its workers, is not always scheduled before a worker
-#: ends two of them.  Measured on the quick profile's triage, 2 workers on 2 cores: idle CPU
-#: 1.65 core-seconds with 2 jobs per worker, 1.17 with 3, 0.95 with 4, 0.79 with 6, 0.60 with 8.
-STREAM_PREFETCH = 8
 
 __all__ = [
     "Task",
