@@ -44,6 +44,7 @@ from hullstress.algorithms.gift_wrap import (
     LITERAL,
     _first_passing,
     _gift_wrap_trace,
+    _screened_out,
     _rotation_key,
     gift_wrap_3d,
     gift_wrap_3d_dedup,
@@ -306,14 +307,112 @@ def test_first_passing_matches_a_sequential_scan(n, seed, nan_rows, eps, whole):
 
 
 @contextlib.contextmanager
-def _candidate_scan(whole: bool, *, at_any_size: bool = False):
-    """Force one of _first_passing's two paths: every candidate in one block, or the pivoting scan."""
-    saved = gift_wrap._WHOLE_BUDGET
-    gift_wrap._WHOLE_BUDGET = (10**12 if at_any_size else saved) if whole else 0
+def _candidate_scan(whole: bool, *, at_any_size: bool = False, screen: bool | None = None):
+    """Force one of _first_passing's two paths: every candidate in one block, or the pivoting scan.
+
+    ``screen`` True or False screens the one block at every size or never
+    (None keeps the size rule).
+    """
+    saved = gift_wrap._WHOLE_BUDGET, gift_wrap._SCREEN_FROM
+    gift_wrap._WHOLE_BUDGET = (10**12 if at_any_size else saved[0]) if whole else 0
+    if screen is not None:
+        gift_wrap._SCREEN_FROM = 0 if screen else 10**12
     try:
         yield
     finally:
-        gift_wrap._WHOLE_BUDGET = saved
+        gift_wrap._WHOLE_BUDGET, gift_wrap._SCREEN_FROM = saved
+
+
+def _seed_distances(q: np.ndarray, nrm: np.ndarray) -> np.ndarray:
+    """Row c: the seed's distances of every point to candidate c, summed x + y + z as its loop does.
+
+    Elementwise float operations, each correctly rounded: the same bits as the
+    scalar loop.
+    """
+    return q[None, :, 0] * nrm[:, None, 0] + q[None, :, 1] * nrm[:, None, 1] + q[None, :, 2] * nrm[:, None, 2]
+
+
+@pytest.mark.parametrize("scale", [1.0, 1e-170, 2.0**-1000, 2.0**-1030, 2.0**-1045, 1e150, 1e300])
+@pytest.mark.parametrize("layout", ["random", "in-plane"])
+def test_screen_keeps_every_candidate_that_passes_with_no_margin(scale, layout):
+    # eps is a candidate's own largest seed distance: it passes with no margin at all.
+    # The matrix product differs from the seed's sums in the last bits on about a
+    # third of the entries.  "random": each candidate in turn, its largest distance
+    # far from zero (an eps-relative bound covers it).  "in-plane": every point on
+    # candidate 0's plane, its distances rounding noise around zero, so only a bound
+    # relative to the products (and, at 2**-1030 and below, the underflow term)
+    # keeps it: without them, about 4 in 10 seeds reject it.
+    for seed in range(200):
+        rng = np.random.default_rng(seed)
+        nrm = rng.standard_normal((20, 3))
+        nrm /= np.linalg.norm(nrm, axis=1)[:, None]
+        if layout == "in-plane":
+            t1 = np.cross(nrm[0], [1.0, 0.0, 0.0])
+            t1 /= np.linalg.norm(t1)
+            q = rng.standard_normal((30, 2)) @ np.stack([t1, np.cross(nrm[0], t1)]) * scale
+        else:
+            q = rng.standard_normal((30, 3)) * scale
+        with np.errstate(all="ignore"):
+            seed_d = _seed_distances(q, nrm)
+            for c, eps in enumerate(seed_d.max(axis=1)[: 1 if layout == "in-plane" else None]):
+                if np.isfinite(eps) and eps >= 0:
+                    assert not _screened_out(q, nrm, eps)[c], f"seed {seed}: candidate {c} rejected at eps={eps!r}"
+
+
+@given(
+    n=st.integers(1, 60),
+    m=st.integers(1, 40),
+    seed=st.integers(0, 2**32 - 1),
+    scale=st.sampled_from([1.0, 2.0**-520, 2.0**-1000, 1e-170, 1e150, 1e300]),
+    special=st.sampled_from(["none", "nan", "inf", "zero-row"]),
+    eps_kind=st.sampled_from(["edge", "zero", "edge-plus-ulp"]),
+)
+def test_screen_rejects_only_what_the_seeds_sums_reject(n, m, seed, scale, special, eps_kind):
+    # eps is set to one candidate's largest seed distance, so that candidate passes
+    # with no margin at all; the matrix product differs from the seed's sums in the
+    # last bits on about a third of the entries, so a screen with too small a bound
+    # rejects it.
+    rng = np.random.default_rng(seed)
+    q = rng.standard_normal((n, 3)) * scale
+    nrm = rng.standard_normal((m, 3))
+    with np.errstate(all="ignore"):
+        nrm /= np.linalg.norm(nrm, axis=1)[:, None]
+        if special == "nan":
+            nrm[rng.integers(0, m)] = np.nan
+        elif special == "inf":
+            nrm[rng.integers(0, m), 0] = np.inf
+        elif special == "zero-row":
+            q[rng.integers(0, n)] = 0.0
+        seed_d = _seed_distances(q, nrm)
+    edge = seed_d[rng.integers(0, m)].max()
+    eps = {"edge": edge, "zero": 0.0, "edge-plus-ulp": np.nextafter(edge, np.inf)}[eps_kind]
+    assume(np.isfinite(eps) and eps >= 0)
+    with np.errstate(all="ignore"):
+        rejected = _screened_out(q, nrm, eps)
+    if special == "inf":
+        assert rejected is None
+        return
+    assert rejected.shape == (m,)
+    with np.errstate(invalid="ignore"):
+        seed_rejects = (seed_d > eps).any(axis=1)
+    assert not (rejected & ~seed_rejects).any(), "the screen rejected a candidate the seed's test passes"
+    expected = next((c for c in range(m) if not seed_rejects[c]), -1)
+    with _candidate_scan(True, at_any_size=True, screen=True), np.errstate(all="ignore"):
+        assert _first_passing(q, nrm, np.ones(m, dtype=bool), eps) == expected
+
+
+def test_screen_rejects_the_candidates_a_point_is_clearly_above():
+    # Not a no-op: on random planes the screen rejects every candidate whose worst
+    # point is above eps by more than a millionth, leaving few to the seed's sums.
+    rng = np.random.default_rng(7)
+    q = rng.standard_normal((100, 3))
+    nrm = rng.standard_normal((98, 3))
+    nrm /= np.linalg.norm(nrm, axis=1)[:, None]
+    eps = 1e-3
+    worst = _seed_distances(q, nrm).max(axis=1)
+    rejected = _screened_out(q, nrm, eps)
+    assert (worst > eps + 1e-6).sum() > 90
+    np.testing.assert_array_equal(rejected, worst > eps + 1e-6)
 
 
 # --------------------------------------------------------------------------- hull properties

@@ -85,9 +85,13 @@ finds that point), then checking the survivors below the pivot winner with the
 full test, in index order, in bounded blocks.  On small inputs (at most
 ``_WHOLE_BUDGET`` distances, about 128 points) every candidate is tested in
 one block instead: one pass over a few thousand distances costs less than the
-pivoting's dozens of small ones.  Every distance is computed with the same
-elementwise float operations in the same order, so the choice is bit-for-bit
-that of the sequential double loop, on either path.
+pivoting's dozens of small ones.  From ``_SCREEN_FROM`` distances up, that
+block is screened first (:func:`_screened_out`): one matrix product gives
+every distance to within a proven rounding bound, which rejects the candidates
+that a point is above by more than that bound; only the others are tested with
+the seed's own sums.  Every distance a decision rests on is computed with the
+same elementwise float operations in the same order, so the choice is
+bit-for-bit that of the sequential double loop, on every path.
 """
 
 from __future__ import annotations
@@ -111,6 +115,13 @@ _MAX_BLOCK = 256
 _MAX_PIVOTS = 64
 #: Up to this many distances (points x candidates), every candidate is tested in one block.
 _WHOLE_BUDGET = 16_384
+#: From this many distances up (about 70 points), the one block is screened by a matrix
+#: product first (below it the screen's set-up costs more than the sums it saves).
+_SCREEN_FROM = 4_096
+#: The unit roundoff of float64.
+_UNIT = 2.0**-53
+#: Covers the absolute error of underflowing products (at most ``2**-1075`` each, three per sum, two sums).
+_UNDERFLOW = 2.0**-1068
 
 
 @dataclass(frozen=True)
@@ -183,6 +194,44 @@ def _signed(q: np.ndarray, nrm: np.ndarray) -> np.ndarray:
     return out
 
 
+def _screened_out(q: np.ndarray, nrm: np.ndarray, eps: float) -> np.ndarray | None:
+    """Candidates that some point is certainly above, from one matrix product; None when no bound holds.
+
+    ``nrm @ q.T`` sums the same three products as :func:`_signed`, in an
+    order (and with fused multiply-adds) that the BLAS chooses, so an entry
+    may differ from the seed's sum in its last bits.  Any way of summing
+    three products is within ``gamma_3 * sum_k |q_k| |n_k|`` of the exact
+    value (``gamma_3 = 3u / (1 - 3u)``, ``u = 2**-53``), plus at most
+    ``2**-1075`` per underflowing product; so the two sums differ by less
+    than ``8u * |q|_1 * max|n| + 2**-1068``, which also covers the rounding
+    of that bound and of adding it to ``eps``.  A product above ``eps`` by
+    more than that puts the seed's own distance above ``eps`` too: the
+    candidate fails the seed's test, whoever looks.  Candidates not rejected
+    here are decided by :func:`_signed` alone.
+
+    Parameters
+    ----------
+    q : ndarray of shape (n, k), float64
+        The points minus the base vertex (finite, or infinite after overflow).
+    nrm : ndarray of shape (m, k), float64
+        The candidates' normals (NaN or infinite when degenerate).
+    eps : float
+
+    Returns
+    -------
+    ndarray of shape (m,), bool, or None
+        True where a point is certainly above the candidate; None when a
+        normal is infinite (its products have no bound; the caller then tests
+        every candidate).  A NaN normal, or a point whose bound overflowed,
+        never rejects anything.
+    """
+    largest = np.fmax.reduce(np.abs(nrm), axis=None)  # NaN-ignoring: NaN normals reject nothing below
+    if not np.isfinite(largest):
+        return None
+    bound = np.abs(q).sum(axis=1) * (8.0 * _UNIT * largest) + (eps + (4.0 * _UNIT * abs(eps) + _UNDERFLOW))
+    return ((nrm @ q.T) > bound).any(axis=1)
+
+
 def _first_passing(q: np.ndarray, nrm: np.ndarray, cand: np.ndarray, eps: float) -> int:
     """The lowest candidate ``c`` with no ``i`` such that ``q[i] . nrm[c] > eps``.
 
@@ -209,6 +258,12 @@ def _first_passing(q: np.ndarray, nrm: np.ndarray, cand: np.ndarray, eps: float)
     if len(q) * idx.size <= _WHOLE_BUDGET:
         # Small inputs: the double loop's answer by definition, in one block of distances,
         # cheaper than the dozens of small passes of the pivoting below.
+        if len(q) * idx.size >= _SCREEN_FROM:
+            rejected = _screened_out(q, nrm[idx], eps)
+            if rejected is not None:
+                idx = idx[~rejected]
+                if idx.size == 0:
+                    return -1
         bad = (_signed(q, nrm[idx]) > eps).any(axis=0)
         return -1 if bad.all() else int(idx[int(np.argmin(bad))])
     # Pivot phase: ordinary gift wrapping towards the farthest point above.
