@@ -110,6 +110,7 @@ machine.
 
 from __future__ import annotations
 
+import math
 from collections import deque
 from dataclasses import dataclass
 
@@ -260,16 +261,18 @@ def _find_face(
     """Steps 5-10 for the edge ``(a, b)``: the face in the seed's order, and the pivots taken."""
     n = len(pts)
     q = pts - pts[b]
-    ab = pts[a] - pts[b]
+    # Coordinate columns, contiguous: the same products and sums as on q's columns, fewer strides.
+    qx, qy, qz = q.T.copy()
+    abx, aby, abz = (pts[a] - pts[b]).tolist()
     # (A - B) x (C - B) for every candidate C at once.
-    cross = np.empty((n, 3))
-    np.subtract(ab[1] * q[:, 2], ab[2] * q[:, 1], out=cross[:, 0])
-    np.subtract(ab[2] * q[:, 0], ab[0] * q[:, 2], out=cross[:, 1])
-    np.subtract(ab[0] * q[:, 1], ab[1] * q[:, 0], out=cross[:, 2])
-    off_line = (cross != 0).any(axis=1)
-    off_line[[a, b]] = False
+    cross = np.empty((3, n))
+    np.subtract(aby * qz, abz * qy, out=cross[0])
+    np.subtract(abz * qx, abx * qz, out=cross[1])
+    np.subtract(abx * qy, aby * qx, out=cross[2])
+    off_line = (cross[0] != 0) | (cross[1] != 0) | (cross[2] != 0)
+    off_line[a] = off_line[b] = False
     if not off_line.any():
-        if not ab.any():  # an edge between two copies of one point (a misordered face can list one)
+        if abx == 0 and aby == 0 and abz == 0:  # an edge between two copies of one point (a misordered face can list one)
             raise ValueError(
                 f"{variant.name}: step 5 has no line through A={a} and B={b}: they are the same point "
                 f"{pts[a].tolist()}"
@@ -281,11 +284,11 @@ def _find_face(
     c = int(np.argmax(off_line))
     pivots = 0
     while True:
-        nm = cross[c]
-        dist = _dots(q, nm)
-        tol = eps * float(np.sqrt(nm[0] * nm[0] + nm[1] * nm[1] + nm[2] * nm[2]))
+        nx, ny, nz = cross[0, c].item(), cross[1, c].item(), cross[2, c].item()
+        dist = qx * nx + qy * ny + qz * nz  # _dots(q, cross[c]): the same operations in the same order
+        tol = eps * math.sqrt(nx * nx + ny * ny + nz * nz)
         others = dist.copy()
-        others[[a, b, c]] = -np.inf
+        others[a] = others[b] = others[c] = -np.inf
         p = int(np.argmax(others))
         if others[p] > tol:  # with n = 3 every entry is -inf
             pivots += 1
@@ -298,8 +301,8 @@ def _find_face(
             continue
         break
     on_plane = np.abs(dist) <= tol
-    on_plane[[a, b, c]] = True
-    return _sort_face(q, ab, np.flatnonzero(on_plane), b, variant.improved), pivots
+    on_plane[a] = on_plane[b] = on_plane[c] = True
+    return _sort_face(q, np.array([abx, aby, abz]), np.flatnonzero(on_plane), b, variant.improved), pivots
 
 
 def _pivot_limit(n: int) -> int:
