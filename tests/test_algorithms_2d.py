@@ -433,6 +433,18 @@ def test_naive_edges_match_the_lecture_triple_loop(case):
     assert [tuple(e) for e in accepted_edges(points, eps=eps).tolist()] == lecture_edges(points, eps)
 
 
+@pytest.mark.parametrize("case", ["uniform", "grid", "circle", "duplicates"])
+@pytest.mark.parametrize(("chunk", "lines"), [(1, 1), (7, 50), (1 << 15, 1 << 18)])
+def test_naive_edges_do_not_depend_on_how_the_pairs_are_batched(monkeypatch, case, chunk, lines):
+    # One side test per chunk and one source per block, odd sizes that split a
+    # source's pairs across chunks, and the defaults: always the triple loop's E.
+    raw, eps = _naive_inputs()[case]
+    points = frozen(raw)
+    monkeypatch.setattr(naive2d, "_CHUNK", chunk)
+    monkeypatch.setattr(naive2d, "_LINES", lines)
+    assert [tuple(e) for e in accepted_edges(points, eps=eps).tolist()] == lecture_edges(points, eps)
+
+
 def test_naive_witness_stages_do_not_change_the_edges(monkeypatch):
     points = frozen(np.random.default_rng(9).uniform(-1, 1, (120, 2)))
     with_witnesses = accepted_edges(points, eps=0.0)

@@ -52,7 +52,8 @@ Readings and quirks kept on purpose:
   involving them false, so such points are never "left" of anything and every
   pair through them is accepted; the result is whatever the walk gives.
 
-Speed: the r-loop (1.A) is vectorised.  Every pair is first tried against a
+Speed: the r-loop (1.A) is vectorised, over the pairs of many sources p at
+once (in cache-sized chunks).  Every pair is first tried against a
 few points that are extreme in fixed directions (most non-edges have one of
 them on their left), survivors against all points; a pair is rejected only
 after an actual float evaluation ``l^t r - d > eps`` of the seed's formula, so
@@ -86,8 +87,10 @@ __all__ = ["naive_2d", "accepted_edges"]
 _NAME = "naive-2d"
 # Witness stages: support points of 8, then 64, evenly spaced directions.
 _WITNESS_DIRECTIONS = (8, 64)
-# Largest block of side tests evaluated at once in the full check (elements).
-_BLOCK = 1 << 20
+# Side tests evaluated at once (elements): small enough for the temporaries to stay in cache.
+_CHUNK = 1 << 15
+# Lines p -> q held at once (three float64 arrays of this many elements).
+_LINES = 1 << 18
 
 
 def _support_points(x: np.ndarray, y: np.ndarray, k: int) -> np.ndarray:
@@ -109,37 +112,44 @@ def _witness_stages(x: np.ndarray, y: np.ndarray) -> list[np.ndarray]:
 
 
 def _accepted_targets(
-    p: int, x: np.ndarray, y: np.ndarray, eps: float, stages: list[np.ndarray]
-) -> np.ndarray:
-    """Steps 1.A-1.B for one p: the q (ascending) with no r strictly left of p -> q."""
+    ps: np.ndarray, x: np.ndarray, y: np.ndarray, eps: float, stages: list[np.ndarray]
+) -> list[np.ndarray]:
+    """Steps 1.A-1.B for the sources ``ps``: per p, the q (ascending) with no r strictly left of p -> q.
+
+    The pairs (p, q) of all the sources are tested together, in chunks of at
+    most ``_CHUNK`` side tests; every line and every side test is the same
+    elementwise float expression as for one pair, so batching changes no
+    rounding.
+    """
     m = x.shape[0]
-    lx, ly, d = left_normal_lines(x[p], y[p], x, y)
-    alive = np.ones(m, dtype=bool)
-    alive[p] = False
-    for w in stages:
-        qs = np.flatnonzero(alive)
-        if qs.size == 0:
-            return qs
-        left = line_side(lx[qs, None], ly[qs, None], d[qs, None], x[w][None, :], y[w][None, :]) > eps
-        # r ranges over P - {p, q}.
-        left[:, w == p] = False
-        col = np.full(m, -1, dtype=np.int64)
-        col[w] = np.arange(w.size)
-        rows = np.flatnonzero(col[qs] >= 0)
-        left[rows, col[qs[rows]]] = False
-        alive[qs[left.any(axis=1)]] = False
-    qs = np.flatnonzero(alive)
-    if qs.size == 0:
-        return qs
-    keep = np.zeros(qs.size, dtype=bool)
-    step = max(1, _BLOCK // m)
-    for start in range(0, qs.size, step):
-        c = qs[start : start + step]
-        left = line_side(lx[c, None], ly[c, None], d[c, None], x[None, :], y[None, :]) > eps
-        left[:, p] = False
-        left[np.arange(c.size), c] = False
-        keep[start : start + step] = ~left.any(axis=1)
-    return qs[keep]
+    k = ps.size
+    lx, ly, d = left_normal_lines(x[ps, None], y[ps, None], x[None, :], y[None, :])  # (k, m): line p -> q
+    # Pair (ps[i], q) at flat index i * m + q.
+    lx, ly, d = lx.ravel(), ly.ravel(), d.ravel()
+    alive = np.ones(k * m, dtype=bool)
+    alive[np.arange(k) * m + ps] = False
+    for w in (*stages, None):  # the witness stages, then every point (None)
+        pair = np.flatnonzero(alive)  # q ascending within each p
+        if pair.size == 0:
+            break
+        src, q = np.divmod(pair, m)
+        rx, ry = (x, y) if w is None else (x[w], y[w])
+        # r ranges over P - {p, q}: the column of p and of q, where the stage holds them.
+        col = np.arange(m) if w is None else np.full(m, -1, dtype=np.int64)
+        if w is not None:
+            col[w] = np.arange(w.size)
+        rejected = np.zeros(q.size, dtype=bool)
+        step = max(1, _CHUNK // rx.size)
+        for start in range(0, q.size, step):
+            at, s, c = pair[start : start + step], src[start : start + step], q[start : start + step]
+            left = line_side(lx[at, None], ly[at, None], d[at, None], rx[None, :], ry[None, :]) > eps
+            for own in (ps[s], c):
+                rows = np.flatnonzero(col[own] >= 0)
+                left[rows, col[own[rows]]] = False
+            rejected[start : start + step] = left.any(axis=1)
+        alive[pair[rejected]] = False
+    src, q = np.divmod(np.flatnonzero(alive), m)
+    return np.split(q, np.cumsum(np.bincount(src, minlength=k))[:-1])
 
 
 def _edges_by_source(pts: np.ndarray, eps: float) -> tuple[np.ndarray, list[np.ndarray]]:
@@ -147,11 +157,13 @@ def _edges_by_source(pts: np.ndarray, eps: float) -> tuple[np.ndarray, list[np.n
     uniq = np.sort(lexicographic_unique(pts))  # step 0, then visit in index order
     x = np.ascontiguousarray(pts[uniq, 0])
     y = np.ascontiguousarray(pts[uniq, 1])
+    m = x.size
     targets: list[np.ndarray] = []
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        stages = _witness_stages(x, y) if x.size else []
-        for p in range(x.size):  # step 1
-            targets.append(_accepted_targets(p, x, y, eps, stages))
+        stages = _witness_stages(x, y) if m else []
+        per_block = max(1, _LINES // max(m, 1))  # sources whose lines p -> q are held at once
+        for start in range(0, m, per_block):  # step 1
+            targets.extend(_accepted_targets(np.arange(start, min(m, start + per_block)), x, y, eps, stages))
     return uniq, targets
 
 
