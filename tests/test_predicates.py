@@ -249,3 +249,59 @@ def test_every_path_through_the_stages_gives_the_exact_sign(monkeypatch, few, ki
         d = a + rng.integers(-1, 2, (k, 3)) * 5e-324
     assert np.array_equal(orient3d(a, b, c, d), ref3(a, b, c, d))
     assert np.array_equal(orient2d(a[:, :2], b[:, :2], d[:, :2]), ref2(a[:, :2], b[:, :2], d[:, :2]))
+
+
+def _points_against_few_planes(rng: np.random.Generator, scale: float):
+    """Many points against a few planes, most left to the integer stage.
+
+    The planes pass through random float points; the points are on them to
+    within a few ulps, or exactly on them (``z = x`` planes), and the whole
+    configuration is scaled by a power of two far outside the double-double
+    range, so neither the exactness check nor double-double decides.
+    """
+    n_planes, per_plane = 6, 40
+    abc = rng.random((n_planes, 3, 3))
+    abc[::2, :, 2] = abc[::2, :, 0]  # every other plane is z = x: exact zeros below
+    label = np.repeat(np.arange(n_planes), per_plane)
+    a, b, c = (abc[label, i] for i in range(3))
+    s, t = rng.random((2, len(label), 1))
+    d = a + s * (b - a) + t * (c - a)
+    d[label % 2 == 0, 2] = d[label % 2 == 0, 0]  # exactly on z = x
+    d = d + rng.integers(-2, 3, d.shape) * np.spacing(d) * (rng.random((len(label), 1)) < 0.5)
+    return [x * scale for x in (a, b, c, d)], label
+
+
+@pytest.mark.parametrize("scale", [1.0, 2.0**700, 2.0**-700, 2.0**-1040])
+def test_points_against_labelled_planes_share_one_exact_normal(monkeypatch, scale):
+    # The labels only share work: the signs are the exact ones, with and without
+    # them, and the shared integer normal is really used (not a silent fallback).
+    import hullstress.checker.predicates as predicates
+
+    used = []
+
+    def spy(cols, labels):
+        signs = shared(cols, labels)
+        used.append(len(labels) if signs is not None else 0)
+        return signs
+
+    shared = predicates._int_signs3_by_plane
+    monkeypatch.setattr(predicates, "_int_signs3_by_plane", spy)
+    rng = np.random.default_rng(3)
+    (a, b, c, d), label = _points_against_few_planes(rng, scale)
+    expected = ref3(a, b, c, d)
+    assert {-1, 0, 1} <= set(expected.tolist()), "the input should give every sign"
+    assert np.array_equal(orient3d(a, b, c, d, planes=label), expected)
+    assert used and used[0] > predicates.FEW_FOR_INTEGERS, "the rows should reach the shared integer normals"
+    assert np.array_equal(orient3d(a, b, c, d), expected)
+
+
+def test_plane_labels_that_break_their_promise_are_ignored():
+    rng = np.random.default_rng(4)
+    (a, b, c, d), label = _points_against_few_planes(rng, 2.0**700)
+    expected = ref3(a, b, c, d)
+    wrong = label.copy()
+    wrong[::7] = (wrong[::7] + 1) % 6  # some rows claim another plane's points
+    assert np.array_equal(orient3d(a, b, c, d, planes=wrong), expected)
+    assert np.array_equal(orient3d(a, b, c, d, planes=np.zeros(len(label), dtype=int)), expected)
+    with pytest.raises(ValueError, match="planes must have shape"):
+        orient3d(a, b, c, d, planes=label[:-1])

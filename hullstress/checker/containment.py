@@ -193,7 +193,7 @@ def _brute(
         if gi.size:
             p = points[idx[gi]]
             if len(planes) == 3:
-                sign = orient3d(planes[0][gf], planes[1][gf], planes[2][gf], p)
+                sign = orient3d(planes[0][gf], planes[1][gf], planes[2][gf], p, planes=gf)
             else:
                 sign = orient2d(planes[0][gf], planes[1][gf], p)
             outside[gi[sign < 0], gf[sign < 0]] = True

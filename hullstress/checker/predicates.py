@@ -387,13 +387,16 @@ def _coincident(args: list[np.ndarray]) -> np.ndarray:
     return out
 
 
-def _settle(sign: np.ndarray, decided: np.ndarray, args: list[np.ndarray], dim: int, stages) -> np.ndarray:
+def _settle(sign: np.ndarray, decided: np.ndarray, args: list[np.ndarray], dim: int, stages,
+            planes: np.ndarray | None = None) -> np.ndarray:
     """Fill ``sign`` where the filter did not decide: exact zeros, exactness test, double-double, integers.
 
     Rows with two equal points are exactly zero (common with duplicated
     input points, and otherwise settled only by the integer stage).
     ``stages`` is ``(exact_eval, dd_eval, int_det)``, each taking the undecided
     rows as coordinate columns; the first two return which rows they settled.
+    ``planes`` (3D only): a label per row, rows with equal labels sharing
+    their first three points (:func:`_int_signs3_by_plane`).
     """
     if decided.all():
         return sign
@@ -418,8 +421,37 @@ def _settle(sign: np.ndarray, decided: np.ndarray, args: list[np.ndarray], dim: 
         if not rest.size:
             return sign
         cols = [col[~ok] for col in cols]
-    sign[rest] = _signs_of_objects(int_det(*_to_ints(cols)))
+    shared = _int_signs3_by_plane(cols, planes[rest]) if planes is not None else None
+    sign[rest] = shared if shared is not None else _signs_of_objects(int_det(*_to_ints(cols)))
     return sign
+
+
+def _int_signs3_by_plane(cols: list[np.ndarray], planes: np.ndarray) -> np.ndarray | None:
+    """Exact orient3d signs with one integer normal per plane: ``-N . (d - a)``, ``N = (b - a) x (c - a)``.
+
+    ``orient3d(a, b, c, d) = det[a - d, b - d, c - d] = -((b - a) x (c - a)) . (d - a)``
+    (subtract the first row from the others, then expand).  ``N`` is computed
+    once per plane from integers with the plane's own common exponent, and
+    ``d - a`` per row from integers with the row's; each is the exact value
+    times a positive power of two, so their dot product has the exact sign.
+    Per row that is six coordinates made integers and eight integer
+    operations instead of twelve and twenty-six.
+
+    Returns None (the caller evaluates every row) when the labels do not
+    keep their promise, or when there are not at least two rows per plane.
+    """
+    labels, first, group = np.unique(planes, return_index=True, return_inverse=True)
+    if 2 * len(labels) > len(planes):
+        return None
+    group = group.ravel()
+    abc = cols[:9]
+    if not all(np.array_equal(col, col[first][group]) for col in abc):
+        return None
+    ax, ay, az, bx, by, bz, cx, cy, cz = _to_ints([col[first] for col in abc])
+    ux, uy, uz, vx, vy, vz = bx - ax, by - ay, bz - az, cx - ax, cy - ay, cz - az
+    nx, ny, nz = uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx
+    rax, ray, raz, dx, dy, dz = _to_ints([cols[0], cols[1], cols[2], cols[9], cols[10], cols[11]])
+    return -_signs_of_objects(nx[group] * (dx - rax) + ny[group] * (dy - ray) + nz[group] * (dz - raz))
 
 
 def exact_signs3(det: np.ndarray, bound: np.ndarray, args: list[np.ndarray]) -> np.ndarray:
@@ -565,13 +597,19 @@ def _int_det3(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz):
 _STAGES3 = (_exact_eval3, _dd_eval3, _int_det3)
 
 
-def orient3d(a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray) -> np.ndarray:
+def orient3d(a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray, *,
+             planes: np.ndarray | None = None) -> np.ndarray:
     """Exact sign of the 3D orientation of (a, b, c, d).
 
     Parameters
     ----------
     a, b, c, d : ndarray of shape (k, 3) or (3,), float64
         Broadcast against each other.
+    planes : ndarray of shape (k,), int, optional
+        A label per row; rows with equal labels have equal ``a``, ``b`` and
+        ``c`` (many points against few planes).  Only a speed hint: the rows
+        the float stages leave share one exact normal per plane.  A label
+        that breaks the promise is detected, and then ignored.
 
     Returns
     -------
@@ -585,11 +623,15 @@ def orient3d(a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray) -> np.n
     >>> orient3d(o, x, y, [[0, 0, -1.0], [0.3, 0.3, 0.0], [0, 0, 5e-324]]).tolist()
     [1, 0, -1]
     """
-    args, _ = _rows([a, b, c, d], 3)
+    args, k = _rows([a, b, c, d], 3)
+    if planes is not None:
+        planes = np.asarray(planes)
+        if planes.shape != (k,):
+            raise ValueError(f"planes must have shape ({k},), got {planes.shape}")
     with np.errstate(all="ignore"):
         det, errbound, noise = filter3(*args)
         sign = np.sign(det).astype(np.int8)
-        return _settle(sign, _decided(det, errbound, noise), args, 3, _STAGES3)
+        return _settle(sign, _decided(det, errbound, noise), args, 3, _STAGES3, planes)
 
 
 def orient3d_mean(a: np.ndarray, b: np.ndarray, c: np.ndarray, ds: Sequence[np.ndarray]) -> np.ndarray:
