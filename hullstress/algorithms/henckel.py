@@ -272,7 +272,8 @@ def _find_face(
     off_line = (cross[0] != 0) | (cross[1] != 0) | (cross[2] != 0)
     off_line[a] = off_line[b] = False
     if not off_line.any():
-        if abx == 0 and aby == 0 and abz == 0:  # an edge between two copies of one point (a misordered face can list one)
+        # An edge between two copies of one point (a misordered face can list one).
+        if abx == 0 and aby == 0 and abz == 0:
             raise ValueError(
                 f"{variant.name}: step 5 has no line through A={a} and B={b}: they are the same point "
                 f"{pts[a].tolist()}"
