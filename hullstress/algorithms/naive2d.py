@@ -90,7 +90,7 @@ _WITNESS_DIRECTIONS = (8, 64)
 # Side tests evaluated at once (elements): small enough for the temporaries to stay in cache.
 _CHUNK = 1 << 15
 # Lines p -> q held at once (three float64 arrays of this many elements).
-_LINES = 1 << 18
+_LINES = 1 << 15
 
 
 def _support_points(x: np.ndarray, y: np.ndarray, k: int) -> np.ndarray:
