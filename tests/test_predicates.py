@@ -286,13 +286,19 @@ def test_points_against_labelled_planes_share_one_exact_normal(monkeypatch, scal
 
     shared = predicates._int_signs3_by_plane
     monkeypatch.setattr(predicates, "_int_signs3_by_plane", spy)
+    row_by_row = []  # the integer stage's rows when each row is evaluated on its own
+    exact_eval, dd_eval, int_det = predicates._STAGES3
+    monkeypatch.setattr(predicates, "_STAGES3",
+                        (exact_eval, dd_eval, lambda *cols: row_by_row.append(len(cols[0])) or int_det(*cols)))
     rng = np.random.default_rng(3)
     (a, b, c, d), label = _points_against_few_planes(rng, scale)
     expected = ref3(a, b, c, d)
     assert {-1, 0, 1} <= set(expected.tolist()), "the input should give every sign"
     assert np.array_equal(orient3d(a, b, c, d, planes=label), expected)
     assert used and used[0] > predicates.FEW_FOR_INTEGERS, "the rows should reach the shared integer normals"
+    assert not row_by_row, "with labels, no row should be left to the row-by-row integer stage"
     assert np.array_equal(orient3d(a, b, c, d), expected)
+    assert sum(row_by_row) == used[0], "without labels, the same rows take the row-by-row integer stage"
 
 
 def test_plane_labels_that_break_their_promise_are_ignored():
