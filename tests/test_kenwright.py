@@ -160,6 +160,18 @@ def test_blocked_scan_equals_one_point_at_a_time(monkeypatch):
     assert np.array_equal(kenwright_hull(pts), blocked)
 
 
+@pytest.mark.parametrize("few", [0, 10**9], ids=["numpy-horizon", "python-horizon"])
+def test_horizon_in_python_or_numpy_gives_the_same_faces(monkeypatch, few):
+    # The horizon of a few removed faces is found in plain Python, of many with
+    # np.unique: either way the same edges in the same order, so the same faces.
+    pts = np.vstack([ball(np.random.default_rng(7), 400), CLOUDS["cube"](np.random.default_rng(8), 200)])
+    expected = kenwright_hull(pts)
+    monkeypatch.setattr(kenwright, "_FEW_FACES", few)
+    assert np.array_equal(kenwright_hull(pts), expected)
+    removed = np.array([[0, 1, 2], [0, 2, 3], [0, 3, 1], [4, 5, 6]])  # a cap of three faces and a lone one
+    assert kenwright._horizon(removed, 7).tolist() == [[1, 2], [2, 3], [3, 1], [4, 5], [5, 6], [6, 4]]
+
+
 def test_insertion_order_is_input_order():
     # A pyramid's square top is split by one diagonal.  The starting
     # tetrahedron is the apex and the first three corners in input order; the

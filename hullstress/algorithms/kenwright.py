@@ -60,6 +60,7 @@ give whatever inf/nan outcome the arithmetic gives, without warnings).
 
 from __future__ import annotations
 
+from collections import Counter
 from typing import Any
 
 import numpy as np
@@ -77,6 +78,8 @@ NAME = "kenwright"
 FACE_LIMIT_PER_POINT = 16
 FACE_LIMIT_BASE = 64
 
+# Up to this many removed faces, the horizon is found in plain Python.
+_FEW_FACES = 64
 # Points that see no face are tested in blocks of at most this many
 # (points x faces) comparisons (~2 MB of float64), so memory stays bounded.
 _BLOCK_ELEMENTS = 1 << 18
@@ -149,7 +152,13 @@ def _start_tetrahedron(pts: np.ndarray, eps: float) -> tuple[list[int], np.ndarr
 
 
 def _horizon(removed: np.ndarray, n: int) -> np.ndarray:
-    """Directed edges of ``removed`` faces whose undirected edge occurs once."""
+    """Directed edges of ``removed`` faces whose undirected edge occurs once, in the faces' order."""
+    if len(removed) <= _FEW_FACES:
+        # A few faces (each insertion on a small hull): plain Python beats np.unique's set-up.
+        edges = [(a, b) for u, v, w in removed.tolist() for a, b in ((u, v), (v, w), (w, u))]
+        seen = Counter((a, b) if a < b else (b, a) for a, b in edges)
+        once = [(a, b) for a, b in edges if seen[(a, b) if a < b else (b, a)] == 1]
+        return np.array(once, dtype=np.int64).reshape(-1, 2)
     edges = removed[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
     # One int64 key per undirected edge (rows < n, so lo * n + hi is unique).
     keys = np.minimum(edges[:, 0], edges[:, 1]) * n + np.maximum(edges[:, 0], edges[:, 1])
