@@ -31,7 +31,10 @@ is cheaper for a few rows than the fixed cost of stages 2 and 3):
 4. **Integer arithmetic on the mantissas**: each row's coordinates become
    Python integers ``m * 2**(e - e_min)`` with a common per-row exponent, and
    the determinant is evaluated in exact integer arithmetic (numpy object
-   arrays, so still one call per operation, not per row).
+   arrays, so still one call per operation, not per row).  When the caller
+   labels the rows of :func:`orient3d` by plane (many points against few
+   planes), the rows of one plane share one integer normal
+   (:func:`_int_signs3_by_plane`).
 
 Sign conventions are Shewchuk's: ``orient2d(a, b, c) > 0`` when a, b, c turn
 counter-clockwise; ``orient3d(a, b, c, d) > 0`` when d lies *below* the plane
