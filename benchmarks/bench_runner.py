@@ -20,8 +20,13 @@ then executed with each worker count in turn, in the same process.  The fork
 server that starts workers is warmed up first (its one-off start, reported
 separately, would otherwise be charged to whichever run comes first); then
 this process lowers its priority as ``python -m hullstress run`` does (its
-workers keep theirs).  For each worker count the best wall time of
-``--repeat`` runs is kept.
+workers keep theirs).
+
+``--repeat`` runs rounds, in both tables: each round runs every worker count
+once, in turn, because the machine's own speed drifts within minutes and
+interleaving compares the counts under the same drift.  For each worker
+count the best wall time is kept, and each round's speed-ups are printed
+under its table, so the spread between rounds shows.
 
 Columns:
 
@@ -66,26 +71,33 @@ def _warm_up(tasks: list[Task]) -> float:
     return time.perf_counter() - start
 
 
-def _best_run(tasks: list[Task], options: RunnerOptions, repeat: int) -> tuple[ExecutionStats, int, float, dict]:
-    """The fastest of ``repeat`` runs: its stats, its row count, the parent's CPU seconds in it,
-    and per algorithm ``[calls, algorithm seconds, check seconds]``."""
-    best: tuple[ExecutionStats, int, float, dict] | None = None
-    for _ in range(repeat):
-        per_algorithm: dict[str, list[float]] = {}
+def _one_run(tasks: list[Task], options: RunnerOptions) -> tuple[ExecutionStats, int, float, dict]:
+    """One run: its stats, its row count, the parent's CPU seconds in it, and per algorithm
+    ``[calls, algorithm seconds, check seconds]``."""
+    per_algorithm: dict[str, list[float]] = {}
 
-        def on_row(row: ResultRow) -> None:
-            tally = per_algorithm.setdefault(str(row["algorithm"]), [0, 0.0, 0.0])
-            tally[0] += 1
-            tally[1] += float(row["seconds"] or 0.0)
-            tally[2] += float(row["check_seconds"] or 0.0)
+    def on_row(row: ResultRow) -> None:
+        tally = per_algorithm.setdefault(str(row["algorithm"]), [0, 0.0, 0.0])
+        tally[0] += 1
+        tally[1] += float(row["seconds"] or 0.0)
+        tally[2] += float(row["check_seconds"] or 0.0)
 
-        cpu = time.process_time()
-        stats = execute(tasks, options, on_row)
-        cpu = time.process_time() - cpu
-        if best is None or stats.wall_seconds < best[0].wall_seconds:
-            best = (stats, sum(int(t[0]) for t in per_algorithm.values()), cpu, per_algorithm)
-    assert best is not None
-    return best
+    cpu = time.process_time()
+    stats = execute(tasks, options, on_row)
+    cpu = time.process_time() - cpu
+    return stats, sum(int(t[0]) for t in per_algorithm.values()), cpu, per_algorithm
+
+
+def _round_ratios(rounds: list[dict[int, float]], what: str, calls: int | None = None) -> None:
+    """Each round's speed-ups over 1 worker (and calls per second), so the spread between rounds shows."""
+    if len(rounds) < 2 or 1 not in rounds[0]:
+        return
+    parts = []
+    for walls in rounds:
+        ups = ", ".join(f"{w} workers {walls[1] / s:.2f}x" + (f" ({calls / s:.0f} calls/s)" if calls else "")
+                        for w, s in walls.items() if w != 1)
+        parts.append(ups)
+    print(f"Each round of {what} (every worker count once, in turn): " + "; ".join(parts) + ".\n")
 
 
 def _by_algorithm(per_algorithm: dict[str, list[float]], top: int = 8) -> None:
@@ -124,16 +136,20 @@ def _end_to_end(args: argparse.Namespace, workers: int, out: Path) -> tuple[floa
 
 
 def _end_to_end_table(args: argparse.Namespace) -> None:
-    results = []
+    # Rounds, each running every worker count once: the machine's own speed drifts by several
+    # per cent within minutes, and interleaving puts the counts compared under the same drift.
+    best: dict[int, tuple[float, dict]] = {}
+    rounds: list[dict[int, float]] = []
     with tempfile.TemporaryDirectory(prefix="hullstress-bench-") as tmp:
-        for workers in args.workers:
-            best: tuple[float, dict] | None = None
-            for _ in range(args.repeat):
+        for _ in range(args.repeat):
+            walls: dict[int, float] = {}
+            for workers in args.workers:
                 got = _end_to_end(args, workers, Path(tmp) / f"w{workers}")
-                if best is None or got[0] < best[0]:
-                    best = got
-            assert best is not None
-            results.append((workers, *best))
+                walls[workers] = got[0]
+                if workers not in best or got[0] < best[workers][0]:
+                    best[workers] = got
+            rounds.append(walls)
+    results = [(workers, *best[workers]) for workers in args.workers]
     print(f"## End to end: `python -m hullstress run --profile {args.profile}`, seed {args.seed}\n")
     print("| workers | wall s | sweep s | triage s | report s | groups | causes | evaluations | speed-up |")
     print("|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
@@ -145,6 +161,7 @@ def _end_to_end_table(args: argparse.Namespace) -> None:
               f"{phases.get('report', 0):.2f} | {triage.get('groups', '')} | {triage.get('causes', '')} | "
               f"{triage.get('evaluations', '')} | {wall_1 / wall:.2f}x |")
     print()
+    _round_ratios(rounds, "end to end")
 
 
 def _sweep_table(args: argparse.Namespace) -> None:
@@ -165,11 +182,22 @@ def _sweep_table(args: argparse.Namespace) -> None:
     yield_cpu_to_workers()
     base = sweep.runner_options()
 
+    # Interleaved rounds, as end to end: every worker count once per round, the best of each kept.
+    best: dict[int, tuple[ExecutionStats, int, float, dict]] = {}
+    rounds: list[dict[int, float]] = []
+    for _ in range(args.repeat):
+        walls: dict[int, float] = {}
+        for workers in args.workers:
+            options = RunnerOptions(workers=workers, timeout=base.timeout, qhull=base.qhull,
+                                    memory_limit_mb=base.memory_limit_mb)
+            got = _one_run(tasks, options)
+            walls[workers] = got[0].wall_seconds
+            if workers not in best or got[0].wall_seconds < best[workers][0].wall_seconds:
+                best[workers] = got
+        rounds.append(walls)
     results: list[tuple[int, ExecutionStats, int, float]] = []
     for workers in args.workers:
-        options = RunnerOptions(workers=workers, timeout=base.timeout, qhull=base.qhull,
-                                memory_limit_mb=base.memory_limit_mb)
-        stats, rows, parent_cpu, per_algorithm = _best_run(tasks, options, args.repeat)
+        stats, rows, parent_cpu, per_algorithm = best[workers]
         if rows != n_calls:
             print(f"warning: {workers} workers delivered {rows} of {n_calls} rows", file=sys.stderr)
         results.append((workers, stats, rows, parent_cpu))
@@ -191,6 +219,7 @@ def _sweep_table(args: argparse.Namespace) -> None:
               f"{per_call_ms:.2f} ms | {1000 * parent_cpu / max(1, rows):.3f} ms | {stats.worker_restarts} | "
               f"{wall_1 / stats.wall_seconds:.2f}x | {ceiling:.0f} calls/s |")
     print()
+    _round_ratios(rounds, "the sweep", calls=n_calls)
     _by_algorithm(per_algorithm)
 
 
