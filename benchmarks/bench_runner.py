@@ -54,7 +54,9 @@ import os
 import sys
 import tempfile
 import time
+from collections.abc import Callable
 from pathlib import Path
+from typing import TypeVar
 
 from hullstress.pipeline import yield_cpu_to_workers
 from hullstress.plugins import load_plugin
@@ -63,6 +65,8 @@ from hullstress.runner import ExecutionStats, RunnerOptions, Task, execute
 from hullstress.sweep import SweepOptions, build_tasks
 
 from _bench_common import add_run_options, load_average, timed_run  # a sibling: benchmarks run as scripts
+
+T = TypeVar("T")
 
 
 def _warm_up(tasks: list[Task]) -> float:
@@ -86,6 +90,24 @@ def _one_run(tasks: list[Task], options: RunnerOptions) -> tuple[ExecutionStats,
     stats = execute(tasks, options, on_row)
     cpu = time.process_time() - cpu
     return stats, sum(int(t[0]) for t in per_algorithm.values()), cpu, per_algorithm
+
+
+def _interleaved(args: argparse.Namespace, run: Callable[[int], T], wall: Callable[[T], float]
+                 ) -> tuple[dict[int, T], list[dict[int, float]]]:
+    """``--repeat`` rounds, each running every worker count once, in turn: the best run per count and
+    each round's wall times.  The machine's own speed drifts by several per cent within minutes, and
+    interleaving puts the counts compared under the same drift."""
+    best: dict[int, T] = {}
+    rounds: list[dict[int, float]] = []
+    for _ in range(args.repeat):
+        walls: dict[int, float] = {}
+        for workers in args.workers:
+            got = run(workers)
+            walls[workers] = wall(got)
+            if workers not in best or walls[workers] < wall(best[workers]):
+                best[workers] = got
+        rounds.append(walls)
+    return best, rounds
 
 
 def _round_ratios(rounds: list[dict[int, float]], what: str, calls: int | None = None) -> None:
@@ -136,19 +158,9 @@ def _end_to_end(args: argparse.Namespace, workers: int, out: Path) -> tuple[floa
 
 
 def _end_to_end_table(args: argparse.Namespace) -> None:
-    # Rounds, each running every worker count once: the machine's own speed drifts by several
-    # per cent within minutes, and interleaving puts the counts compared under the same drift.
-    best: dict[int, tuple[float, dict]] = {}
-    rounds: list[dict[int, float]] = []
     with tempfile.TemporaryDirectory(prefix="hullstress-bench-") as tmp:
-        for _ in range(args.repeat):
-            walls: dict[int, float] = {}
-            for workers in args.workers:
-                got = _end_to_end(args, workers, Path(tmp) / f"w{workers}")
-                walls[workers] = got[0]
-                if workers not in best or got[0] < best[workers][0]:
-                    best[workers] = got
-            rounds.append(walls)
+        best, rounds = _interleaved(args, lambda workers: _end_to_end(args, workers, Path(tmp) / f"w{workers}"),
+                                    lambda got: got[0])
     results = [(workers, *best[workers]) for workers in args.workers]
     print(f"## End to end: `python -m hullstress run --profile {args.profile}`, seed {args.seed}\n")
     print("| workers | wall s | sweep s | triage s | report s | groups | causes | evaluations | speed-up |")
@@ -182,19 +194,11 @@ def _sweep_table(args: argparse.Namespace) -> None:
     yield_cpu_to_workers()
     base = sweep.runner_options()
 
-    # Interleaved rounds, as end to end: every worker count once per round, the best of each kept.
-    best: dict[int, tuple[ExecutionStats, int, float, dict]] = {}
-    rounds: list[dict[int, float]] = []
-    for _ in range(args.repeat):
-        walls: dict[int, float] = {}
-        for workers in args.workers:
-            options = RunnerOptions(workers=workers, timeout=base.timeout, qhull=base.qhull,
-                                    memory_limit_mb=base.memory_limit_mb)
-            got = _one_run(tasks, options)
-            walls[workers] = got[0].wall_seconds
-            if workers not in best or got[0].wall_seconds < best[workers][0].wall_seconds:
-                best[workers] = got
-        rounds.append(walls)
+    best, rounds = _interleaved(
+        args,
+        lambda workers: _one_run(tasks, RunnerOptions(workers=workers, timeout=base.timeout, qhull=base.qhull,
+                                                      memory_limit_mb=base.memory_limit_mb)),
+        lambda got: got[0].wall_seconds)
     results: list[tuple[int, ExecutionStats, int, float]] = []
     for workers in args.workers:
         stats, rows, parent_cpu, per_algorithm = best[workers]
