@@ -1112,3 +1112,70 @@ def test_an_undecided_entry_farther_than_every_decided_one_is_still_decided():
     kept = _open_facets([0, 1, 1], [1, 0, 1], [[True, False], [False, False]], [[5.0, 0.5], [-0.5, 0.0]],
                         norm, 9.0)
     assert kept == [(1, 0), (1, 1)]
+
+
+# --------------------------------------------------------------------------- many undecided entries, in rounds
+
+
+def _needle(noise: int, n: int = 60, m: int = 300, seed: int = 5) -> tuple[np.ndarray, np.ndarray]:
+    """Integer points along the line t (3, 5, 7) 2**44, every other one off it by up to ``noise`` units,
+    and random triangles of them.  With ``noise`` 1 every facet plane nearly passes through every
+    point, so nearly every entry is undecided in floats (the wrong hull of near-collinear points
+    that made the rounds); with 0 every facet is flat."""
+    rng = np.random.default_rng(seed)
+    t = np.arange(1, n + 1, dtype=np.int64)[:, None]
+    pts = t * np.array([3, 5, 7], dtype=np.int64) * 2**44
+    pts[::2] += rng.integers(-noise, noise + 1, size=pts[::2].shape)
+    facets = np.array([rng.choice(n, size=3, replace=False) for _ in range(m)])
+    return pts.astype(np.float64), facets
+
+
+def _brute_counting(monkeypatch, pts: np.ndarray, facets: np.ndarray) -> tuple[list[int], float, list[int]]:
+    """``_brute`` on every point: the points outside, the distance, and the rows of each exact call."""
+    rows: list[int] = []
+    exact = cm.orient3d
+
+    def counting(a, b, c, d, **kw):
+        rows.append(len(d))
+        return exact(a, b, c, d, **kw)
+
+    monkeypatch.setattr(cm, "orient3d", counting)
+    outside, worst = cm._brute(pts, [pts[facets[:, k]] for k in range(3)], facets, np.arange(len(pts)))
+    monkeypatch.setattr(cm, "orient3d", exact)
+    return outside.tolist(), worst, rows
+
+
+@pytest.mark.parametrize("noise", [1, 0])
+def test_many_undecided_entries_are_settled_in_rounds_with_the_same_answer(monkeypatch, noise):
+    # Noise 1: most points are outside some facet, nearly all found in the first round, and
+    # their other entries are skipped.  Noise 0: every facet is flat, no point is outside,
+    # and every entry must be settled (the rounds run until none is left).
+    pts, facets = _needle(noise)
+    outside, worst, in_rounds = _brute_counting(monkeypatch, pts, facets)
+    threshold = cm._ROUNDS_FROM
+    monkeypatch.setattr(cm, "_ROUNDS_FROM", 10**12)
+    at_once_outside, at_once_worst, at_once = _brute_counting(monkeypatch, pts, facets)
+    assert sum(at_once) > threshold  # the undecided entries are many: the rounds ran
+    assert outside == at_once_outside == _exact_outside(pts, facets)
+    assert worst == at_once_worst
+    if noise:
+        assert outside and sum(in_rounds) < sum(at_once) / 4
+    else:
+        assert not outside and sum(in_rounds) == sum(at_once) and len(in_rounds) >= 4
+
+
+def test_rounds_give_the_answer_of_settling_every_entry(monkeypatch):
+    # Every size in rounds: points inside, outside at once, outside only by an entry met in
+    # a later round, flat facets; the points and the distance are those of settling all.
+    later = mixed = 0
+    for seed in range(40):
+        pts, facets = _needle(1, n=16, m=(6, 10)[seed % 2], seed=seed)
+        monkeypatch.setattr(cm, "_ROUNDS_FROM", 0)
+        outside, worst, rows = _brute_counting(monkeypatch, pts, facets)
+        monkeypatch.setattr(cm, "_ROUNDS_FROM", 10**12)
+        every_outside, every_worst, _ = _brute_counting(monkeypatch, pts, facets)
+        assert outside == every_outside == _exact_outside(pts, facets), seed
+        assert worst == every_worst, seed
+        later += len(rows) >= 3
+        mixed += 0 < len(outside) < len(pts)
+    assert later >= 10 and mixed >= 10

@@ -36,6 +36,7 @@ _EPS = 2.0**-53
 _CHUNK = 2_000_000  # entries of the points x facets matrix held at once
 _CONE_CHUNK = 500_000  # (point, cone edge) rows held at once: a big polygon face costs rows, not memory
 _SMALL = 50_000  # up to this many point-facet entries, brute force (it beats the cone machinery there)
+_ROUNDS_FROM = 4_096  # more undecided entries than this in a chunk are settled in rounds (_settle_undecided)
 _WALK_STEPS = 64
 
 
@@ -191,12 +192,7 @@ def _brute(
         if gi.size:
             gi, gf = _still_open(gi, gf, outside, s, norm, worst)
         if gi.size:
-            p = points[idx[gi]]
-            if len(planes) == 3:
-                sign = orient3d(planes[0][gf], planes[1][gf], planes[2][gf], p, planes=gf)
-            else:
-                sign = orient2d(planes[0][gf], planes[1][gf], p)
-            outside[gi[sign < 0], gf[sign < 0]] = True
+            _settle_undecided(gi, gf, points[idx], planes, outside, s, norm, worst)
         hit = outside.any(axis=1)
         if hit.any():
             with np.errstate(all="ignore"):
@@ -204,6 +200,59 @@ def _brute(
             worst = max(worst, float(np.nan_to_num(dist, nan=0.0, posinf=0.0, neginf=0.0).max()))
         out.append(idx[hit])
     return np.concatenate(out), max(worst, 0.0)
+
+
+def _exactly_outside(gi: np.ndarray, gf: np.ndarray, pts: np.ndarray, planes: list[np.ndarray],
+                     outside: np.ndarray) -> None:
+    """Mark the entries ``(gi, gf)`` whose point ``pts[gi]`` is strictly outside facet ``gf`` (exact signs)."""
+    p = pts[gi]
+    if len(planes) == 3:
+        sign = orient3d(planes[0][gf], planes[1][gf], planes[2][gf], p, planes=gf)
+    else:
+        sign = orient2d(planes[0][gf], planes[1][gf], p)
+    outside[gi[sign < 0], gf[sign < 0]] = True
+
+
+def _settle_undecided(gi: np.ndarray, gf: np.ndarray, pts: np.ndarray, planes: list[np.ndarray],
+                      outside: np.ndarray, s: np.ndarray, norm: np.ndarray, worst: float) -> None:
+    """Settle the undecided entries ``(gi, gf)`` of a chunk exactly, into ``outside``, skipping what cannot matter.
+
+    Up to :data:`_ROUNDS_FROM` entries, all at once.  More come from surfaces
+    whose every plane nearly passes through every point (a wrong hull of
+    near-collinear points: 130 000 entries out of 131 000, and all 90 points
+    outside some facet).  Those are settled in rounds: each point's entries
+    farthest outside in float first, 1, then 4, 16 ... per point, and after
+    each round :func:`_still_open` drops the entries that can no longer
+    change the answer (those of points found outside that are not farther
+    than the farthest outside entry known).  A point inside still has every
+    entry settled; the order only decides how soon the others stop.
+    """
+    if gi.size <= _ROUNDS_FROM:
+        _exactly_outside(gi, gf, pts, planes, outside)
+        return
+    with np.errstate(all="ignore"):
+        dist = s[gi, gf] / norm[gf]
+    dist[~np.isfinite(dist)] = -np.finfo(np.float64).max  # an order only: last, but above the fill below
+    # The first round without sorting: each point's farthest entry.
+    farthest = np.full(outside.shape, -np.inf)
+    farthest[gi, gf] = dist
+    best = farthest.argmax(axis=1)
+    points_open = np.unique(gi)
+    _exactly_outside(points_open, best[points_open], pts, planes, outside)
+    keep = _open(gi, gf, outside, s, norm, worst) & (gf != best[gi])
+    gi, gf, dist = gi[keep], gf[keep], dist[keep]
+    order = np.lexsort((-dist, gi))  # by point, and within a point the farthest first
+    gi, gf = gi[order], gf[order]
+    first = np.r_[0, np.flatnonzero(gi[1:] != gi[:-1]) + 1]
+    rank = np.arange(gi.size) - np.repeat(first, np.diff(np.r_[first, gi.size]))
+    take = 4
+    while gi.size:
+        now = rank < take
+        _exactly_outside(gi[now], gf[now], pts, planes, outside)
+        gi, gf, rank = gi[~now], gf[~now], rank[~now]
+        keep = _open(gi, gf, outside, s, norm, worst)
+        gi, gf, rank = gi[keep], gf[keep], rank[keep]
+        take *= 4
 
 
 def _still_open(gi: np.ndarray, gf: np.ndarray, outside: np.ndarray, s: np.ndarray, norm: np.ndarray,
@@ -218,15 +267,21 @@ def _still_open(gi: np.ndarray, gf: np.ndarray, outside: np.ndarray, s: np.ndarr
     distance returned, and spares the exact stages most of a grossly wrong
     hull's entries (a wrong hull of 100 near-collinear points: 0.74 s).
     """
+    keep = _open(gi, gf, outside, s, norm, worst)
+    return gi[keep], gf[keep]
+
+
+def _open(gi: np.ndarray, gf: np.ndarray, outside: np.ndarray, s: np.ndarray, norm: np.ndarray,
+          worst: float) -> np.ndarray:
+    """Which of the entries ``(gi, gf)`` :func:`_still_open` keeps, as a mask."""
     hit = outside.any(axis=1)
     if not hit.any():
-        return gi, gf
+        return np.ones(gi.size, dtype=bool)
     with np.errstate(all="ignore"):  # a zero normal or an overflow: inf and NaN, reported as 0 (_brute)
         known = s[hit] / norm
         known = known[outside[hit] & np.isfinite(known)]
         bar = max(worst, float(known.max())) if known.size else worst
-        keep = ~hit[gi] | (s[gi, gf] / norm[gf] > bar)
-    return gi[keep], gf[keep]
+        return ~hit[gi] | (s[gi, gf] / norm[gf] > bar)
 
 
 def _unit_rows(v: np.ndarray) -> np.ndarray:
