@@ -5,7 +5,9 @@ Two strategies, both exact:
 *brute force* (any surface): every point against every facet plane, in chunks.
   A matrix product gives each signed distance in float; a rigorous per-facet
   error bound (see :func:`_facet_bounds`) settles almost every entry, and the
-  entries inside the bound go to the exact :func:`~.predicates.orient3d`.
+  entries inside the bound go to the exact :func:`~.predicates.orient3d`,
+  except those that cannot change the answer (:func:`_still_open`; many of
+  them are settled in rounds, farthest first: :func:`_settle_undecided`).
 *cones* (a surface already certified convex and closed, with a float point
   ``center`` verified strictly below every facet): the surface is then
   star-shaped around ``center``, so a point is outside the polytope iff it is
@@ -219,13 +221,14 @@ def _settle_undecided(gi: np.ndarray, gf: np.ndarray, pts: np.ndarray, planes: l
 
     Up to :data:`_ROUNDS_FROM` entries, all at once.  More come from surfaces
     whose every plane nearly passes through every point (a wrong hull of
-    near-collinear points: 130 000 entries out of 131 000, and all 90 points
-    outside some facet).  Those are settled in rounds: each point's entries
-    farthest outside in float first, 1, then 4, 16 ... per point, and after
-    each round :func:`_still_open` drops the entries that can no longer
-    change the answer (those of points found outside that are not farther
-    than the farthest outside entry known).  A point inside still has every
-    entry settled; the order only decides how soon the others stop.
+    1483 faces over 90 near-collinear points: 128 000 entries out of
+    133 000, and all 90 points outside some facet).  Those are settled in
+    rounds: each point's entry farthest outside in float first, then 4, 16
+    ... more per point, and after each round the rule of :func:`_still_open`
+    (:func:`_open`) drops the entries that can no longer change the answer
+    (those of points found outside that are not farther than the farthest
+    outside entry known).  A point inside still has every entry settled;
+    the float distances only decide the order, so how soon the others stop.
     """
     if gi.size <= _ROUNDS_FROM:
         _exactly_outside(gi, gf, pts, planes, outside)
