@@ -234,27 +234,27 @@ def _settle_undecided(gi: np.ndarray, gf: np.ndarray, pts: np.ndarray, planes: l
         _exactly_outside(gi, gf, pts, planes, outside)
         return
     with np.errstate(all="ignore"):
-        dist = s[gi, gf] / norm[gf]
-    dist[~np.isfinite(dist)] = -np.finfo(np.float64).max  # an order only: last, but above the fill below
+        dist = s[gi, gf] / norm[gf]  # each entry's float distance, computed once for every round
+    key = np.where(np.isfinite(dist), dist, -np.finfo(np.float64).max)  # an order only: last, above the fill
     # The first round without sorting: each point's farthest entry.
     farthest = np.full(outside.shape, -np.inf)
-    farthest[gi, gf] = dist
+    farthest[gi, gf] = key
     best = farthest.argmax(axis=1)
     points_open = np.unique(gi)
     _exactly_outside(points_open, best[points_open], pts, planes, outside)
-    keep = _open(gi, gf, outside, s, norm, worst) & (gf != best[gi])
-    gi, gf, dist = gi[keep], gf[keep], dist[keep]
-    order = np.lexsort((-dist, gi))  # by point, and within a point the farthest first
-    gi, gf = gi[order], gf[order]
+    keep = _open(gi, dist, outside, s, norm, worst) & (gf != best[gi])
+    gi, gf, dist, key = gi[keep], gf[keep], dist[keep], key[keep]
+    order = np.lexsort((-key, gi))  # by point, and within a point the farthest first
+    gi, gf, dist = gi[order], gf[order], dist[order]
     first = np.r_[0, np.flatnonzero(gi[1:] != gi[:-1]) + 1]
     rank = np.arange(gi.size) - np.repeat(first, np.diff(np.r_[first, gi.size]))
     take = 4
     while gi.size:
         now = rank < take
         _exactly_outside(gi[now], gf[now], pts, planes, outside)
-        gi, gf, rank = gi[~now], gf[~now], rank[~now]
-        keep = _open(gi, gf, outside, s, norm, worst)
-        gi, gf, rank = gi[keep], gf[keep], rank[keep]
+        gi, gf, dist, rank = gi[~now], gf[~now], dist[~now], rank[~now]
+        keep = _open(gi, dist, outside, s, norm, worst)
+        gi, gf, dist, rank = gi[keep], gf[keep], dist[keep], rank[keep]
         take *= 4
 
 
@@ -270,13 +270,14 @@ def _still_open(gi: np.ndarray, gf: np.ndarray, outside: np.ndarray, s: np.ndarr
     distance returned, and spares the exact stages most of a grossly wrong
     hull's entries (a wrong hull of 100 near-collinear points: 0.74 s).
     """
-    keep = _open(gi, gf, outside, s, norm, worst)
+    with np.errstate(all="ignore"):  # a zero normal or an overflow: inf and NaN
+        keep = _open(gi, s[gi, gf] / norm[gf], outside, s, norm, worst)
     return gi[keep], gf[keep]
 
 
-def _open(gi: np.ndarray, gf: np.ndarray, outside: np.ndarray, s: np.ndarray, norm: np.ndarray,
+def _open(gi: np.ndarray, dist: np.ndarray, outside: np.ndarray, s: np.ndarray, norm: np.ndarray,
           worst: float) -> np.ndarray:
-    """Which of the entries ``(gi, gf)`` :func:`_still_open` keeps, as a mask."""
+    """Which entries of points ``gi`` with float distances ``dist`` :func:`_still_open` keeps, as a mask."""
     hit = outside.any(axis=1)
     if not hit.any():
         return np.ones(gi.size, dtype=bool)
@@ -284,7 +285,7 @@ def _open(gi: np.ndarray, gf: np.ndarray, outside: np.ndarray, s: np.ndarray, no
         known = s[hit] / norm
         known = known[outside[hit] & np.isfinite(known)]
         bar = max(worst, float(known.max())) if known.size else worst
-        return ~hit[gi] | (s[gi, gf] / norm[gf] > bar)
+        return ~hit[gi] | (dist > bar)
 
 
 def _unit_rows(v: np.ndarray) -> np.ndarray:
