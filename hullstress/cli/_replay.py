@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..corpus.store import DEFAULT_CORPUS
+from ..corpus import DEFAULT_CORPUS
 from ..errors import UsageError
 from . import EXIT_NO_WORK, EXIT_STATUS_HELP
 from ._common import add_registration_options, count, seconds

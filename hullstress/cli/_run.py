@@ -132,6 +132,12 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
 
 def run_command(args: argparse.Namespace) -> int:
     """Parse the options into :class:`~hullstress.pipeline.RunOptions`, run the pipeline, print its summary."""
+    if args.workers != 0:
+        # First of all: the workers' fork server imports NumPy, SciPy and hullstress (about 0.6 s)
+        # while this process imports pandas and builds the cases (see hullstress.forkserver).
+        from ..forkserver import start_method
+
+        start_method()
     from ..pipeline import RunOptions, run
     from ..progress import progress_enabled
     from ..sweep import SweepOptions

@@ -16,7 +16,7 @@ import numpy as np
 
 from ..config import single_config
 from ..errors import UsageError
-from ..triage.signature import FAILED_CHECKS
+from ..verdict import FAILED_CHECKS
 from . import EXIT_STATUS_HELP
 from ._common import add_registration_options, count, seconds
 

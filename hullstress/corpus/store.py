@@ -39,6 +39,7 @@ from typing import Any
 
 import numpy as np
 
+from . import DEFAULT_CORPUS
 from ..case import Case
 from ..errors import CorpusError
 from ..files import atomic_write_text
@@ -64,8 +65,6 @@ __all__ = [
 
 FORMAT = "hullstress-corpus"
 FORMAT_VERSION = 1
-#: Where the project's own regression corpus lives (relative to the repository root).
-DEFAULT_CORPUS = Path("tests") / "corpus"
 
 
 def row_signature(row: ResultRow | Mapping[str, Any]) -> str:

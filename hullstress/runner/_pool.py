@@ -20,15 +20,8 @@ path) or unpickles the spec.  As with any ``spawn``/``forkserver`` program, a
 script that runs a sweep must guard its entry point with
 ``if __name__ == "__main__":`` (workers import the main module).
 
-The fork server (and so every worker) starts with stdout and stderr on
-``/dev/null`` (:func:`_start_forkserver_quietly`): a worker's own messages are
-captured per call into its rows, and what a dying worker or a half-started
-one (an interrupt while it is forked) prints outside a call is noise for the
-terminal.  ``HULLSTRESS_DEBUG=1`` keeps them.
-
-Workers start with ``PYTHONHASHSEED=0`` (:data:`WORKER_ENV`): string hashing,
-and so the iteration order of sets of strings in the code under test, is the
-same in every worker, run and backend.
+The fork server itself (started early, quietly, with a fixed hash seed for
+every worker) lives in :mod:`hullstress.forkserver`.
 
 Messages and their meaning are in :mod:`hullstress.runner._protocol`.
 """
@@ -50,6 +43,7 @@ from multiprocessing.connection import Connection, wait
 from typing import Any, Iterator
 
 from ..evaluate import CaseFacts
+from ..forkserver import get_context as _get_context, start_method, worker_environment as _worker_environment
 from ..results import ResultRow
 from ..records import Stage, Status
 from ._feed import JobFeed
@@ -75,78 +69,8 @@ STREAM_PREFETCH = 8
 MAX_DEATHS_OUTSIDE_CALLS = 2
 
 _HAVE_POLL = hasattr(select, "poll")
-_PRELOAD = ["hullstress.runner._preload", "__main__"]
-_context_lock = threading.Lock()
-_context: Any = None
 # Starting a child flips the (process-wide) daemon flag in a daemonic parent; serialise starts.
 _start_lock = threading.Lock()
-
-
-def start_method() -> str:
-    """The multiprocessing start method workers use: ``forkserver`` where available, else ``spawn``."""
-    return _get_context().get_start_method()
-
-
-def _get_context() -> Any:
-    global _context
-    with _context_lock:
-        if _context is None:
-            if "forkserver" in multiprocessing.get_all_start_methods():
-                ctx = multiprocessing.get_context("forkserver")
-                # Takes effect only if the fork server is not running yet;
-                # otherwise workers import what they need themselves (slower starts).
-                ctx.set_forkserver_preload(_PRELOAD)
-                _start_forkserver_quietly()
-            else:
-                ctx = multiprocessing.get_context("spawn")
-            _context = ctx
-        return _context
-
-
-def _start_forkserver_quietly() -> None:
-    """Start the fork server now, with its stdout and stderr (which workers inherit) on /dev/null."""
-    if os.environ.get("HULLSTRESS_DEBUG"):
-        return
-    import sys
-    from multiprocessing import forkserver
-
-    for stream in (sys.stdout, sys.stderr):
-        try:
-            stream.flush()
-        except (AttributeError, ValueError, OSError):
-            pass
-    devnull = os.open(os.devnull, os.O_WRONLY)
-    saved = [os.dup(1), os.dup(2)]
-    try:
-        os.dup2(devnull, 1)
-        os.dup2(devnull, 2)
-        with _worker_environment():
-            forkserver.ensure_running()
-    finally:
-        os.dup2(saved[0], 1)
-        os.dup2(saved[1], 2)
-        for fd in (devnull, *saved):
-            os.close(fd)
-
-
-#: Environment every worker process starts with (unless the user set these).
-#: A fixed hash seed makes ``set``/``dict`` order of strings and bytes the
-#: same in every worker, run and backend, so code under test that iterates
-#: such a set (Qhull's option list in scipy does) behaves the same everywhere.
-WORKER_ENV = {"PYTHONHASHSEED": "0"}
-
-
-@contextmanager
-def _worker_environment() -> Iterator[None]:
-    """Set :data:`WORKER_ENV` while a child (or the fork server) is spawned; restore afterwards."""
-    added = [k for k in WORKER_ENV if k not in os.environ]
-    for key in added:
-        os.environ[key] = WORKER_ENV[key]
-    try:
-        yield
-    finally:
-        for key in added:
-            os.environ.pop(key, None)
 
 
 @contextmanager

@@ -20,8 +20,9 @@ from __future__ import annotations
 
 import os
 import signal
-import sys
 from multiprocessing.connection import Connection
+
+from ..forkserver import die_with_parent
 
 __all__ = ["worker_main", "THREAD_ENV", "DEFERRED_MESSAGES"]
 
@@ -41,19 +42,6 @@ THREAD_ENV = {
     "VECLIB_MAXIMUM_THREADS": "1",
     "NUMEXPR_NUM_THREADS": "1",
 }
-
-
-def _die_with_parent() -> None:
-    if not sys.platform.startswith("linux"):
-        return
-    try:
-        import ctypes
-
-        libc = ctypes.CDLL(None, use_errno=True)
-        pr_set_pdeathsig = 1
-        libc.prctl(pr_set_pdeathsig, int(signal.SIGKILL), 0, 0, 0)
-    except (OSError, AttributeError):
-        pass  # best effort: the pipe's EOF still ends an idle worker
 
 
 def _limit_memory(limit_bytes: int | None) -> None:
@@ -85,7 +73,7 @@ def worker_main(conn: Connection, limit_bytes: int | None) -> None:
         Address-space limit for this process.
     """
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    _die_with_parent()
+    die_with_parent()
     for key, value in THREAD_ENV.items():
         os.environ.setdefault(key, value)
     _limit_memory(limit_bytes)

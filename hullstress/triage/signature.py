@@ -35,7 +35,7 @@ from typing import Any
 
 from ..config import AlgorithmConfig
 from ..records import CONTRACT_REASON, FAILED_STATUSES, METHOD_REASON, NO_EPS, Stage, Status
-from ..verdict import CHECKS
+from ..verdict import CHECKS, FAILED_CHECKS
 
 __all__ = ["Signature", "failed_check", "failed_checks_of", "signature_of", "stage_of", "FAILED_STATUSES",
            "FAILED_CHECKS", "DEFAULT_STAGE"]
@@ -43,9 +43,6 @@ __all__ = ["Signature", "failed_check", "failed_checks_of", "signature_of", "sta
 #: The stage of a row that does not say (tables written before the ``stage`` column).
 DEFAULT_STAGE = Stage.ALGORITHM.value
 
-#: Every value the "failed check" part of a signature can take (``shrink --check`` accepts these).
-FAILED_CHECKS = (("contract",) + tuple(CHECKS) + ("collapsed", "invalid-input")
-                 + (Status.ERROR.value, Status.TIMEOUT.value, Status.CRASH.value))
 
 _CONTRACT_PREFIX = CONTRACT_REASON
 _INTERNAL_PREFIX = "internal:"
