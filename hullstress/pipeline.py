@@ -45,10 +45,10 @@ import signal
 import threading
 import time
 from collections.abc import Callable, Iterator, Mapping
-from contextlib import contextmanager
+from contextlib import ExitStack, contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Protocol
+from typing import TYPE_CHECKING, Any, Protocol
 
 import pandas as pd
 
@@ -58,6 +58,10 @@ from .results import ResultRow, to_frame
 from .runner import ExecutionStats, Task
 from .qhull_format import check_qhull_options
 from .sweep import SweepOptions, build_tasks, run_sweep, sort_table
+
+if TYPE_CHECKING:  # the report's modules load when the run gets there
+    from .report.picture_helper import PictureDrawer
+    from .report.stage import FindingsBeside
 
 __all__ = ["RunOptions", "Run", "Interrupted", "Plan", "plan", "run", "EXIT_FOR_SIGNAL", "Executor", "YIELD_NICENESS",
            "yield_cpu_to_workers"]
@@ -407,6 +411,7 @@ def run(
     """
     from .corpus.baseline import compare_with_baseline, load_baseline
     from .progress import PhaseProgress, ProgressBar
+    from .report.stage import FindingsBeside
     from .report.writer import OutputLog, RowStream, new_run_dir, prepare_report
 
     began = time.perf_counter()
@@ -424,7 +429,6 @@ def run(
     baseline = load_baseline(options.baseline) if options.baseline else None  # fails before the sweep
     the_plan = plan(sweep, out=options.out, last_failed=options.last_failed)
     _check_output_folders(options)
-    prepare_report(pictures=options.pictures)
     run_dir = new_run_dir(options.out, _run_name(options))
     say(f"hullstress: {len(the_plan.tasks)} cases x configs = {the_plan.n_calls} calls -> {run_dir}")
     the_run = Run(run_dir=run_dir, plan=the_plan, table=to_frame([]))
@@ -446,9 +450,12 @@ def run(
         if on_row is not None:
             on_row(row)
 
+    # The report's imports now; matplotlib loads while the sweep runs (in the pictures' helper process
+    # when the run has workers to spare, else in a thread here).
+    drawer = prepare_report(pictures=options.pictures, workers=max(1, sweep.runner_options().workers))
     started = time.perf_counter()
     the_run.seconds["generate"] = started - began  # the cases, the output folder, the report's imports
-    with signals.installed():
+    with signals.installed(), drawer, ExitStack() as helpers:
         # execute + check: the sweep.
         try:
             with signals.raising():
@@ -485,6 +492,9 @@ def run(
         stream.close(remove=not the_run.environment_errors)
         if the_run.environment_errors:
             return the_run  # a full disk: stop here, keeping what is written
+        # The findings are a function of the table alone, final now: with workers to spare a helper
+        # computes them while triage runs, instead of in the report.
+        findings = helpers.enter_context(FindingsBeside(the_run.table, max(1, sweep.runner_options().workers)))
 
         # triage.
         t0 = time.perf_counter()
@@ -511,7 +521,7 @@ def run(
         say(f"report: writing {run_dir}")
         report_bar = PhaseProgress("report", "cause folders", live=progress, enabled=echo is not None)
         try:
-            _report(the_run, options, signals, started, report_bar)
+            _report(the_run, options, signals, started, report_bar, drawer, findings)
         finally:
             report_bar.close()
     return the_run
@@ -552,7 +562,8 @@ def _triage(the_run: Run, options: RunOptions, signals: _Signals, progress: Any 
                             seconds=time.perf_counter() - t0, stopped=True)
 
 
-def _report(the_run: Run, options: RunOptions, signals: _Signals, started: float, progress: Any = None) -> None:
+def _report(the_run: Run, options: RunOptions, signals: _Signals, started: float, progress: Any = None,
+            drawer: PictureDrawer | None = None, findings: FindingsBeside | None = None) -> None:
     from .report.stage import write_run_report
     from .report.writer import run_metadata, write_run_json
 
@@ -569,7 +580,7 @@ def _report(the_run: Run, options: RunOptions, signals: _Signals, started: float
                 comparison=the_run.comparison, baseline_label=options.baseline,
                 should_stop=signals.stop_requested, registration=options.registration,
                 tables_written=not the_run.environment_errors, interruptible=signals.raising,
-                workers=max(1, sweep.runner_options().workers),
+                workers=max(1, sweep.runner_options().workers), drawer=drawer, findings_beside=findings,
             )
     except KeyboardInterrupt:
         pass  # a second signal: the report stays as far as it got; run.json says why below

@@ -249,24 +249,28 @@ def test_a_table_read_back_gives_the_same_findings(tmp_path, capsys):
 
 
 def test_findings_computed_beside_the_report_are_the_findings_of_the_table(monkeypatch):
-    # With workers to spare the report computes the findings in a process of its own while it
-    # writes the folders; the same function of the same table, so the same claims, and here when
-    # that process cannot start.
+    # With workers to spare the findings are computed in a process of their own from the moment the
+    # table is final (while triage runs); the same function of the same table, so the same claims, and
+    # here when that process cannot start or is closed before it is asked.
     from hullstress.report import stage
     from hullstress.runner import start_method
 
     start_method()  # the run's fork server, with its imports (as in a run), not a bare one started here
     table = pd.concat([_sphere_table(), _eps_table()], ignore_index=True)
     want = findings_markdown(compute_findings(table, source="run `x`"))
-    beside = stage._findings_beside(table, "run `x`", 2)
-    assert findings_markdown(beside()) == want
-    assert findings_markdown(stage._findings_beside(table, "run `x`", 1)()) == want
+    with stage.FindingsBeside(table, 2) as beside:
+        assert beside._future is not None  # a helper computes them
+        assert findings_markdown(beside.result("run `x`")) == want
+    assert findings_markdown(stage.FindingsBeside(table, 1).result("run `x`")) == want
+    early = stage.FindingsBeside(table, 2)
+    early.close()  # e.g. the run stopped before its report: asked anyway, they are computed here
+    assert findings_markdown(early.result("run `x`")) == want
 
     def refused(*args, **kwargs):
         raise OSError("no process for you")
 
     monkeypatch.setattr(stage, "ProcessPoolExecutor", refused)
-    assert findings_markdown(stage._findings_beside(table, "run `x`", 2)()) == want
+    assert findings_markdown(stage.FindingsBeside(table, 2).result("run `x`")) == want
 
 
 @pytest.fixture(scope="module")

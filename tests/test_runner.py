@@ -31,7 +31,7 @@ from hullstress.runner._pool import PoolSettings
 from hullstress.runner._protocol import algorithm_refs
 from hullstress.sweep import sort_table
 
-from _processes import alive
+from _processes import alive, forked_from_a_fork_server_of
 
 P = "runner-test-"
 
@@ -600,6 +600,13 @@ def test_a_killed_run_leaves_a_readable_partial_table_and_no_workers(plugin, tmp
     while time.monotonic() < deadline and any(alive(p) for p in workers):
         time.sleep(0.1)
     assert not any(alive(p) for p in workers)
+    # Nor the fork server, nor the report's helpers forked from it (its picture drawers run from the
+    # start): every child of the fork server keeps it alive, so each must leave by itself.
+    if sys.platform.startswith("linux"):
+        deadline = time.monotonic() + 10
+        while time.monotonic() < deadline and forked_from_a_fork_server_of(tmp_path):
+            time.sleep(0.1)
+        assert not forked_from_a_fork_server_of(tmp_path)
 
 
 # -- call output ----------------------------------------------------------------

@@ -51,7 +51,8 @@ from ..triage.grouping import FailureGroup
 from ..triage.records import Cause, TriageRecord
 from ..triage.signature import Signature
 
-__all__ = ["FailureRecord", "write_cause_folder", "write_failure_folder", "draw_picture", "reproduce_command",
+__all__ = ["FailureRecord", "write_cause_folder", "write_failure_folder", "draw_picture", "picture_request",
+           "picture_png", "with_picture", "reproduce_command",
            "python_command", "CASE_FILE", "TIMING_KEYS"]
 
 #: The file of a folder that ``hullstress reproduce`` reads.
@@ -331,11 +332,25 @@ def draw_picture(record: FailureRecord) -> FailureRecord:
 
     Reads the folder's ``faces.json`` so that the picture shows exactly what was saved.
     """
+    return with_picture(record, picture_png(*picture_request(record)))
+
+
+def picture_request(record: FailureRecord) -> tuple[Path, np.ndarray, dict[str, list[int]], str]:
+    """What :func:`picture_png` needs to draw ``record``'s picture: plain values another process can take."""
+    return (record.folder, record.points, dict(record.offending),
+            f"{record.signature.label}: {record.minimal_size} points")
+
+
+def picture_png(folder: Path, points: np.ndarray, offending: Mapping[str, Sequence[int]], title: str) -> bytes:
+    """The PNG bytes of a written folder's picture (its points, its saved faces, the offending indices)."""
     from .pictures import failure_picture
 
-    saved = json.loads((record.folder / "faces.json").read_text())
-    dim = json.loads((record.folder / CASE_FILE).read_text())["dim"]
-    png = failure_picture(record.points, saved.get("faces"), dim=dim, offending=record.offending,
-                          title=f"{record.signature.label}: {record.minimal_size} points")
+    saved = json.loads((folder / "faces.json").read_text())
+    dim = json.loads((folder / CASE_FILE).read_text())["dim"]
+    return failure_picture(points, saved.get("faces"), dim=dim, offending=offending, title=title)
+
+
+def with_picture(record: FailureRecord, png: bytes) -> FailureRecord:
+    """Write ``png`` as the folder's ``picture.png``; the record with those bytes."""
     atomic_write_bytes(record.folder / "picture.png", png)
     return dataclasses.replace(record, picture=png)

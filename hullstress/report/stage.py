@@ -16,10 +16,11 @@ skips the remaining pictures and the notes say so.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import multiprocessing
 import time
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import CancelledError, ProcessPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
 from collections.abc import Callable, Mapping, Sequence
 from contextlib import nullcontext
@@ -30,8 +31,10 @@ from typing import Any, ContextManager
 import pandas as pd
 
 from ..files import atomic_write_text
-from ..triage.records import TriageResult
-from .failures import FailureRecord, draw_picture, write_cause_folder
+from ..forkserver import helper_start, lifeline
+from ..triage.records import Cause, TriageResult
+from .failures import FailureRecord, draw_picture, with_picture, write_cause_folder
+from .picture_helper import PictureDrawer
 from .findings import Findings, compute_findings, run_source, write_findings
 from .hints import clockwise_hints
 from .html import render_html
@@ -42,7 +45,7 @@ from .claim import markdown_table as _markdown
 from .writer import write_report
 from ..records import Origin
 
-__all__ = ["ReportFiles", "write_run_report"]
+__all__ = ["ReportFiles", "write_run_report", "FindingsBeside"]
 
 #: ``progress(done, total, detail)`` while folders are written.
 Progress = Callable[[int, int, str], None]
@@ -98,6 +101,8 @@ def write_run_report(
     tables_written: bool = False,
     interruptible: Callable[[], ContextManager[Any]] | None = None,
     workers: int = 1,
+    drawer: PictureDrawer | None = None,
+    findings_beside: FindingsBeside | None = None,
 ) -> ReportFiles:
     """Write every file of the run folder from the run's records.
 
@@ -142,8 +147,16 @@ def write_run_report(
     workers : int
         Processes the run may keep busy (its ``--workers``): with two or
         more, the findings are computed in another process while this one
-        writes the folders and draws the pictures (the same findings: they
-        are a function of the table alone).
+        writes the folders, and the pictures in a third (the same findings
+        and pictures: functions of the table and the folders alone).
+    drawer : PictureDrawer, optional
+        Where the pictures are drawn: the run's, started when it began
+        (:meth:`PictureDrawer.start`), so that matplotlib is loaded by now.
+        By default one is started here for ``workers``.  Either way it is
+        closed before this returns.
+    findings_beside : FindingsBeside, optional
+        The findings of ``table``, started by the pipeline as soon as the
+        table was final; by default started here for ``workers``.
 
     Returns
     -------
@@ -151,60 +164,46 @@ def write_run_report(
     """
     start = time.perf_counter()
     run_dir = Path(run_dir)
-    findings_of_the_table = _findings_beside(table, run_source(meta), workers)
-    write_report(run_dir, table, meta, tables=not tables_written)
     notes = list(triage.notes)
-    records: list[FailureRecord] = []
-    picture_failures: list[str] = []
-    skipped_pictures = 0
     causes = list(triage.causes)
-    for n, cause in enumerate(causes):
-        algorithms = {r.signature.algorithm for r in cause.records}
-        needs = any(_needs_registration(a) for a in algorithms)
-        record = write_cause_folder(
-            run_dir / "failures", cause, timeout=timeout, picture=False,
-            plugins=list(plugins) if needs else [], registration=registration if needs else (),
-        )
-        if n < pictures:
-            if should_stop is not None and should_stop():
-                skipped_pictures += 1
-            else:
-                try:
-                    with interruptible() if interruptible is not None else nullcontext():
-                        record = draw_picture(record)
-                except KeyboardInterrupt:  # an interrupt cut this picture short; the rest follow without
-                    skipped_pictures += 1
-                except Exception as exc:  # a picture is a nicety: never lose the report for it
-                    picture_failures.append(f"{cause.slug}: {type(exc).__name__}: {exc}")
-        records.append(record)
-        if progress is not None:
-            progress(n + 1, len(causes), "")
+    if findings_beside is None:
+        findings_beside = FindingsBeside(table, workers)
+    if drawer is None:
+        drawer = PictureDrawer.start(pictures=pictures > 0, workers=workers)
+    with findings_beside, drawer:
+        write_report(run_dir, table, meta, tables=not tables_written)
+        records, done = _write_folders(run_dir, causes, drawer, pictures=pictures, timeout=timeout, plugins=plugins,
+                                       registration=registration, should_stop=should_stop, progress=progress)
+        # What does not depend on the pictures, while a helper draws them.
+        hints = clockwise_hints(table)
+        later = [f"Hint: {hint}." for hint in hints]
+        unreached = meta.get("not_reached") or {}
+        if unreached:
+            later.append("Not reached (the run ended early): " + ", ".join(
+                f"{family} {count} calls" for family, count in sorted(unreached.items())) + ".")
+        if len(table) and (table["transform"].fillna("").astype(str) != "").any():
+            changes = metamorphic_changes(table)
+            atomic_write_text(run_dir / "metamorphic.csv", changes.to_csv(index=False))
+            copies = int((table["transform"].fillna("").astype(str) != "").sum())
+            later.append(f"Metamorphic copies: {len(changes)} of {copies} calls on a transformed copy gave "
+                         "another verdict than on the original (metamorphic.csv).")
+        folders = {r.cause.slug: r.folder.relative_to(run_dir).as_posix() for r in records}
+        findings = findings_beside.result(run_source(meta))
+        findings_md, findings_csv = write_findings(run_dir, findings)
+        atomic_write_text(run_dir / TABLES["causes"], causes_frame(causes, folders).to_csv(index=False))
+        atomic_write_text(run_dir / TABLES["groups"], groups_table(triage.groups, causes).to_csv(index=False))
+        picture_failures, skipped_pictures = _collect_pictures(
+            records, causes, drawer, pictures=pictures, done=done, should_stop=should_stop, progress=progress,
+            interruptible=interruptible)
     if picture_failures:
         notes.append(f"{len(picture_failures)} pictures could not be drawn (first: {picture_failures[0]}).")
     if skipped_pictures:
         notes.append(f"{skipped_pictures} of the top causes have no picture: the run was interrupted.")
     if len(causes) > pictures:
         notes.append(f"Pictures are drawn for the top {pictures} causes (the profile's picture count).")
-
-    hints = clockwise_hints(table)
-    notes += [f"Hint: {hint}." for hint in hints]
-    unreached = meta.get("not_reached") or {}
-    if unreached:
-        notes.append("Not reached (the run ended early): " + ", ".join(
-            f"{family} {count} calls" for family, count in sorted(unreached.items())) + ".")
-    if len(table) and (table["transform"].fillna("").astype(str) != "").any():
-        changes = metamorphic_changes(table)
-        atomic_write_text(run_dir / "metamorphic.csv", changes.to_csv(index=False))
-        copies = int((table["transform"].fillna("").astype(str) != "").sum())
-        notes.append(f"Metamorphic copies: {len(changes)} of {copies} calls on a transformed copy gave another "
-                     "verdict than on the original (metamorphic.csv).")
-    folders = {r.cause.slug: r.folder.relative_to(run_dir).as_posix() for r in records}
-    findings = findings_of_the_table()
-    findings_md, findings_csv = write_findings(run_dir, findings)
+    notes += later
     # summary.md fits on a screen: one sentence per claim; findings.md has the rest.
     reading = [f"{claim.title}: {claim.reading[0]}" for claim in findings.claims if claim.reading]
-    atomic_write_text(run_dir / TABLES["causes"], causes_frame(causes, folders).to_csv(index=False))
-    atomic_write_text(run_dir / TABLES["groups"], groups_table(triage.groups, causes).to_csv(index=False))
     index = _write_index(run_dir, records, len(triage.groups))
     summary = write_summary(run_dir, summary_markdown(
         table, meta, causes=causes, groups=triage.groups, folders=folders, reading=reading, notes=notes))
@@ -218,36 +217,133 @@ def write_run_report(
                        seconds=time.perf_counter() - start, hints=hints)
 
 
-def _findings_beside(table: pd.DataFrame, source: str, workers: int) -> Callable[[], Findings]:
-    """Start :func:`compute_findings` of ``table``; call the result for the findings.
+def _write_folders(
+    run_dir: Path, causes: list[Cause], drawer: PictureDrawer, *, pictures: int, timeout: float | None,
+    plugins: Sequence[str], registration: Sequence[str], should_stop: Callable[[], bool] | None,
+    progress: Progress | None,
+) -> tuple[list[FailureRecord], int]:
+    """Write every cause's folder, and ask ``drawer`` for the pictures of the first ``pictures``.
 
-    With ``workers >= 2`` they are computed in a process of their own (forked
-    from the run's fork server, so it starts with pandas loaded) while the
-    caller writes the cause folders and pictures; otherwise, or if that
-    process cannot start or dies, here, when asked for.  Either way the
-    same function of the same table: the same findings.
+    The pictured causes come first in ``causes``: their pictures are drawn
+    (by the drawer's helper, when it has one) while the other folders and
+    the report's tables are written.  A folder counts as done for
+    ``progress`` once it has its picture; returns the records and the
+    folders done so far.
     """
-    def here() -> Findings:
-        return compute_findings(table, source=source)
+    records: list[FailureRecord] = []
+    done = 0
+    for n, cause in enumerate(causes):
+        algorithms = {r.signature.algorithm for r in cause.records}
+        needs = any(_needs_registration(a) for a in algorithms)
+        record = write_cause_folder(
+            run_dir / "failures", cause, timeout=timeout, picture=False,
+            plugins=list(plugins) if needs else [], registration=registration if needs else (),
+        )
+        records.append(record)
+        if n < pictures:
+            if should_stop is None or not should_stop():
+                drawer.request(record)
+        elif progress is not None:
+            done += 1
+            progress(done, len(causes), "")
+    return records, done
 
-    if workers < 2 or "forkserver" not in multiprocessing.get_all_start_methods():
-        return here
-    try:
-        # The fork server, not fork: the run's own process may hold threads (a progress bar).
-        executor = ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("forkserver"))
-        future = executor.submit(compute_findings, table, source=source)
-    except (OSError, RuntimeError):
-        return here
 
-    def collected() -> Findings:
+def _collect_pictures(
+    records: list[FailureRecord], causes: list[Cause], drawer: PictureDrawer, *, pictures: int, done: int,
+    should_stop: Callable[[], bool] | None, progress: Progress | None,
+    interruptible: Callable[[], ContextManager[Any]] | None,
+) -> tuple[list[str], int]:
+    """Put the first ``pictures`` records' pictures in their folders (and ``records``): the helper's, or drawn here.
+
+    Returns the pictures that could not be drawn (``slug: error``) and how
+    many an interrupt skipped.
+    """
+    picture_failures: list[str] = []
+    skipped = 0
+    for n in range(min(pictures, len(records))):
+        if should_stop is not None and should_stop():
+            skipped += 1
+        else:
+            try:
+                with interruptible() if interruptible is not None else nullcontext():
+                    png = drawer.drawn(records[n])
+                    records[n] = with_picture(records[n], png) if png is not None else draw_picture(records[n])
+            except KeyboardInterrupt:  # an interrupt cut this picture short; the rest follow without
+                skipped += 1
+            except Exception as exc:  # a picture is a nicety: never lose the report for it
+                picture_failures.append(f"{causes[n].slug}: {type(exc).__name__}: {exc}")
+        if progress is not None:
+            done += 1
+            progress(done, len(causes), "")
+    return picture_failures, skipped
+
+#: The ``nice`` value of the process that computes the findings while triage runs.
+_LOWEST_PRIORITY = 19
+
+
+class FindingsBeside:
+    """The findings of a results table (:func:`compute_findings`), computed beside the run.
+
+    With ``workers >= 2`` they are computed in a process of their own,
+    forked from the run's fork server (so it starts with pandas loaded) at
+    the lowest priority, from the moment the table is final (the pipeline
+    starts them once the sweep's tables are written: they take what triage
+    leaves idle of the cores); otherwise, or if that process cannot start or dies, here, when
+    asked for.  Either way the same function of the same table: the same
+    findings.
+
+    Parameters
+    ----------
+    table : DataFrame
+        The run's final results table.
+    workers : int
+        Processes the run may keep busy (its ``--workers``).
+    """
+
+    def __init__(self, table: pd.DataFrame, workers: int) -> None:
+        self._table = table
+        self._executor: ProcessPoolExecutor | None = None
+        self._future: Any = None
+        if workers < 2 or "forkserver" not in multiprocessing.get_all_start_methods():
+            return
         try:
-            return future.result()
-        except (BrokenProcessPool, OSError):  # the helper died (an interrupt reached it): compute them here
-            return here()
-        finally:
-            executor.shutdown(wait=False, cancel_futures=True)
+            # The fork server, not fork: the run's own process may hold threads (a progress bar).
+            # The lowest priority: it runs while triage leaves a core idle, and must not slow the
+            # process that feeds the workers; it leaves with the run (helper_start).
+            self._lifeline, theirs = lifeline()
+            self._executor = ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("forkserver"),
+                                                 initializer=helper_start, initargs=(_LOWEST_PRIORITY, theirs))
+            self._future = self._executor.submit(compute_findings, table)
+        except (OSError, RuntimeError):
+            self.close()
 
-    return collected
+    def result(self, source: str) -> Findings:
+        """The findings, headed ``source`` (:func:`run_source`: known only when the report is written)."""
+        found: Findings | None = None
+        if self._future is not None:
+            try:
+                found = self._future.result()
+            except (BrokenProcessPool, CancelledError, OSError):  # the helper died, or was closed: here then
+                found = None
+            finally:
+                self.close()
+        if found is None:
+            found = compute_findings(self._table)
+        return dataclasses.replace(found, source=source)
+
+    def close(self) -> None:
+        """End the helper process (its work is dropped if it is not done)."""
+        if self._executor is not None:
+            self._executor.shutdown(wait=False, cancel_futures=True)
+            self._executor = None
+            self._lifeline.close()
+
+    def __enter__(self) -> FindingsBeside:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
 
 
 def _needs_registration(algorithm: str) -> bool:

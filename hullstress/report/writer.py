@@ -25,6 +25,7 @@ from ..errors import EnvironmentFailure, UsageError, is_environment_error
 from ..files import atomic_write_text, atomic_write_with, writable_folder
 from ..results import ROW_COLUMNS, ResultRow
 from .failures import python_command
+from .picture_helper import PictureDrawer
 
 __all__ = ["new_run_dir", "RowStream", "OutputLog", "write_report", "write_run_json", "package_versions",
            "prepare_report"]
@@ -144,23 +145,20 @@ def package_versions() -> dict[str, str]:
     return dict(_versions())
 
 
-def prepare_report(*, pictures: bool = True) -> None:
+def prepare_report(*, pictures: bool = True, workers: int = 1) -> PictureDrawer:
     """Load now what writing the report needs (Parquet, package versions, the plotting library).
 
     The pipeline calls this before the sweep, so that the report of an
     interrupted run is written within its promised two seconds instead of
-    paying for imports then; matplotlib (the slowest) loads in a background
-    thread while the sweep runs.
+    paying for imports then.  Matplotlib (the slowest) loads while the sweep
+    runs, in the returned drawer's helper process (``workers`` >= 2) or in a
+    background thread of this one: see :class:`~.picture_helper.PictureDrawer`.
+    The caller closes the drawer.
     """
     _versions()
     _parquet_available()
     python_command()
-    if pictures:
-        import threading
-
-        from .pictures import preload_matplotlib
-
-        threading.Thread(target=preload_matplotlib, name="hullstress-preload", daemon=True).start()
+    return PictureDrawer.start(pictures=pictures, workers=workers)
 
 
 @functools.lru_cache(maxsize=1)

@@ -8,7 +8,9 @@ Environment:
     ``triage``: calls on the sweep's cases are quick, calls on fewer than
     ``HOLD_SIZE`` points (only the shrinker makes those) last 10 s;
     ``report``: calls are quick, and drawing each failure's picture takes
-    0.5 s (the one step of the report that takes time).
+    0.5 s (the one step of the report that takes time) when the run draws
+    it itself, as with ``--workers 1`` (with more, a helper process draws
+    the pictures: :mod:`hullstress.report.picture_helper`).
 ``HOLD_SIZE``
     See above (default 12).
 ``HOLD_MARK``
