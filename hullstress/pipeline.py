@@ -450,8 +450,7 @@ def run(
         if on_row is not None:
             on_row(row)
 
-    # The report's imports now; matplotlib loads while the sweep runs (in the pictures' helper process
-    # when the run has workers to spare, else in a thread here).
+    # The report's imports now (matplotlib too, in a thread, with one worker: see prepare_report).
     drawer = prepare_report(pictures=options.pictures, workers=max(1, sweep.runner_options().workers))
     started = time.perf_counter()
     the_run.seconds["generate"] = started - began  # the cases, the output folder, the report's imports
@@ -488,13 +487,15 @@ def run(
             the_run.table = sort_table(to_frame(rows), [c.case_id for c in the_plan.cases])
         the_run.seconds["sweep"] = time.perf_counter() - started
         the_run.signal = signals.signum
+        # The table is final: with workers to spare, helpers compute the findings (a function of the
+        # table alone) and warm up the picture drawers now, in the core this process leaves idle while
+        # it writes the tables and groups the failures, and in what triage leaves idle.
+        findings = helpers.enter_context(FindingsBeside(the_run.table, max(1, sweep.runner_options().workers)))
+        drawer.begin()
         _write_tables(the_run, options)  # the table is safe on disk before triage
         stream.close(remove=not the_run.environment_errors)
         if the_run.environment_errors:
             return the_run  # a full disk: stop here, keeping what is written
-        # The findings are a function of the table alone, final now: with workers to spare a helper
-        # computes them while triage runs, instead of in the report.
-        findings = helpers.enter_context(FindingsBeside(the_run.table, max(1, sweep.runner_options().workers)))
 
         # triage.
         t0 = time.perf_counter()

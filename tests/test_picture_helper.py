@@ -148,3 +148,16 @@ def test_an_interrupt_while_waiting_raises_here_and_close_ends_the_helper_at_onc
 def test_one_worker_or_no_pictures_starts_no_helper(pictures, workers):
     with PictureDrawer.start(pictures=pictures, workers=workers) as drawer:
         assert not drawer.helped
+
+
+def test_a_drawer_starts_its_helper_when_begun_or_first_asked(tmp_path):
+    # The pipeline makes the drawer before the sweep and begins it when the sweep ends, so that the
+    # helper's warm-up does not take CPU from the sweep's workers.
+    record = _records(tmp_path)[0]
+    with PictureDrawer(pictures=True, workers=2) as drawer:
+        assert not drawer.helped
+        drawer.begin()
+        assert drawer.helped
+    with PictureDrawer(pictures=True, workers=2) as drawer:
+        drawer.request(record)
+        assert drawer.helped and drawer.drawn(record) == picture_png(*picture_request(record))

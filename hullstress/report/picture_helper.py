@@ -3,15 +3,15 @@
 Drawing the top causes' pictures is the report's longest step: about 50 ms a
 picture on matplotlib's Agg canvas, most of it ticks and text, after about
 0.3 s of importing matplotlib and drawing a first picture (fonts, 3D axes).
-A run with two or more workers has the cores for it.  :meth:`PictureDrawer.start`
-then starts a helper process, forked from the run's fork server, when the
-run begins.  During the sweep the helper imports matplotlib, draws a
-throw-away picture, and forks :data:`DRAWERS` - 1 copies of itself, warm as it
-is; this process never imports matplotlib.  During the report the drawers
-take the requested pictures in turn,
-while this process writes the cause folders and the tables (and the
-findings come from another helper that computed them during triage:
-:class:`hullstress.report.stage.FindingsBeside`).
+A run with two or more workers has the cores for it.  When its sweep ends
+(:meth:`PictureDrawer.begin`), a helper process forked from the run's fork
+server imports matplotlib, draws a throw-away picture and forks
+:data:`DRAWERS` - 1 copies of itself, warm as it is, while this process writes
+the tables and groups the failures (a core is idle then); this process
+never imports matplotlib.  In the report the drawers take the requested
+pictures in turn while this process writes the cause folders and the
+tables (and the findings come from another helper that computed them
+during triage: :class:`hullstress.report.stage.FindingsBeside`).
 
 With one worker, or when the helper cannot start or a drawer dies, the
 pictures it has not delivered are drawn here instead, by the same function:
@@ -105,6 +105,11 @@ def _warm_up() -> None:
         failure_picture(np.eye(3), [[0, 1, 2]], dim=3, offending={"containment": [0]}, title="warm-up")
     except Exception:  # no matplotlib, or a drawing problem the real pictures will report
         pass
+
+
+def _preload_here() -> None:
+    """Import matplotlib in a background thread of this process, which draws the pictures itself."""
+    threading.Thread(target=preload_matplotlib, name="hullstress-preload", daemon=True).start()
 
 
 class _Helper:
@@ -206,13 +211,17 @@ class PictureDrawer:
     >>> drawer.close()
     """
 
-    def __init__(self, helper: _Helper | None = None) -> None:
-        self._helper = helper
+    def __init__(self, *, pictures: bool = False, workers: int = 1) -> None:
+        self._helper: _Helper | None = None
         self._lock = threading.Lock()
+        self._wanted = pictures and workers >= 2 and "forkserver" in multiprocessing.get_all_start_methods()
+        self._begun = False
+        if pictures and not self._wanted:
+            _preload_here()
 
     @classmethod
     def start(cls, *, pictures: bool, workers: int) -> PictureDrawer:
-        """A drawer for a run of ``workers`` processes; it starts loading matplotlib now.
+        """A drawer for a run of ``workers`` processes, begun (see :meth:`begin`).
 
         Parameters
         ----------
@@ -220,19 +229,32 @@ class PictureDrawer:
             The run draws pictures; False loads nothing and starts nothing.
         workers : int
             Processes the run may keep busy (its ``--workers``): with two or
-            more, a helper process draws the pictures (where the platform has
+            more, helper processes draw the pictures (where the platform has
             a fork server); otherwise a background thread imports matplotlib
             for this process, which draws them itself.
         """
-        if not pictures:
-            return cls()
-        if workers >= 2 and "forkserver" in multiprocessing.get_all_start_methods():
+        drawer = cls(pictures=pictures, workers=workers)
+        drawer.begin()
+        return drawer
+
+    def begin(self) -> None:
+        """Start the helper now (with two workers or more), which loads matplotlib and warms up.
+
+        The pipeline calls this when the sweep ends: the helper then warms
+        up while this process writes the tables and groups the failures,
+        when a core is idle, instead of taking CPU from the sweep's workers.
+        Without it, the first :meth:`request` starts the helper.
+        """
+        with self._lock:
+            if self._begun:
+                return
+            self._begun = True
+            if not self._wanted:
+                return
             try:
-                return cls(_Helper())
-            except (OSError, RuntimeError, ValueError):
-                pass  # no process for it: drawn here
-        threading.Thread(target=preload_matplotlib, name="hullstress-preload", daemon=True).start()
-        return cls()
+                self._helper = _Helper()
+            except (OSError, RuntimeError, ValueError):  # no process for it: drawn here
+                _preload_here()
 
     @property
     def helped(self) -> bool:
@@ -241,6 +263,7 @@ class PictureDrawer:
 
     def request(self, record: FailureRecord) -> None:
         """Ask for ``record``'s picture (its folder is written); a no-op when pictures are drawn here."""
+        self.begin()
         if self._helper is None:
             return
         self._helper.ask(picture_request(record))
@@ -268,6 +291,7 @@ class PictureDrawer:
         """End the helper (killed if it is still drawing), once."""
         with self._lock:
             helper, self._helper = self._helper, None
+            self._begun = True  # a request after this draws here
         if helper is not None:
             helper.close()
 

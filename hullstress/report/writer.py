@@ -150,15 +150,16 @@ def prepare_report(*, pictures: bool = True, workers: int = 1) -> PictureDrawer:
 
     The pipeline calls this before the sweep, so that the report of an
     interrupted run is written within its promised two seconds instead of
-    paying for imports then.  Matplotlib (the slowest) loads while the sweep
-    runs, in the returned drawer's helper process (``workers`` >= 2) or in a
-    background thread of this one: see :class:`~.picture_helper.PictureDrawer`.
-    The caller closes the drawer.
+    paying for imports then.  Returns the run's picture drawer, not begun:
+    with one worker matplotlib (the slowest import) loads now, in a
+    background thread, while the sweep runs; with more, the drawer's helper
+    processes load it once :meth:`~.picture_helper.PictureDrawer.begin` is
+    called at the sweep's end.  The caller closes the drawer.
     """
     _versions()
     _parquet_available()
     python_command()
-    return PictureDrawer.start(pictures=pictures, workers=workers)
+    return PictureDrawer(pictures=pictures, workers=workers)
 
 
 @functools.lru_cache(maxsize=1)
