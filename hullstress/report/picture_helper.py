@@ -94,8 +94,8 @@ def _draw_until_closed(conn: Connection) -> None:
 
 def _warm_up() -> None:
     """Draw a 2D and a 3D picture and throw them away: the first drawing in a process loads the fonts
-    and builds the 3D axes' machinery (about 0.3 s), which the helper does during the sweep, not in
-    the report."""
+    and builds the 3D axes' machinery (about 0.1 s after the 0.25 s import), which the helper does when
+    the sweep ends, not in the report."""
     import numpy as np
 
     from .pictures import failure_picture
@@ -168,7 +168,7 @@ class _Helper:
         except Exception:  # end of file (a drawer died or was killed), or a garbled message
             pass
         with self._news:
-            # Which drawer took which picture is not known here: whatever is not in is drawn by the report.
+            # A drawer is gone (or both are): whatever is not in is drawn by the report itself.
             self._ended = True
             self._news.notify_all()
 
@@ -198,10 +198,12 @@ class _Helper:
 class PictureDrawer:
     """Where the report's pictures are drawn: by a helper process, or here.
 
-    Use :meth:`start` at the beginning of a run, :meth:`request` once a
-    cause's folder is written, then :meth:`drawn` for each requested record
-    (in any order; the helper draws them in the order requested), and
-    :meth:`close` (or a ``with`` block) at the end.
+    Make one when the run begins (with one worker it starts importing
+    matplotlib here, in a thread), :meth:`begin` it when the sweep ends
+    (with more, that starts the drawers), :meth:`request` each picture once
+    its cause's folder is written, then take each with :meth:`drawn` (in
+    any order; the drawers take the requests in turn), and :meth:`close`
+    it (or use a ``with`` block) at the end.
 
     Examples
     --------
