@@ -33,8 +33,8 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from typing import Any
 
-__all__ = ["WORKER_ENV", "current_niceness", "die_with_parent", "get_context", "helper_start", "lifeline",
-           "start_method", "take_niceness", "worker_environment"]
+__all__ = ["WORKER_ENV", "current_niceness", "die_with_parent", "get_context", "helper_start", "start_method",
+           "take_niceness", "worker_environment"]
 
 #: Environment every worker process starts with (unless the user set these).
 #: A fixed hash seed makes ``set``/``dict`` order of strings and bytes the
@@ -161,41 +161,19 @@ def die_with_parent() -> None:
         pass  # best effort: the pipe's EOF still ends an idle worker
 
 
-def lifeline() -> tuple[Any, Any]:
-    """A one-way pipe: (the run's end, to keep; the helper's end, for :func:`helper_start`)."""
-    theirs, ours = multiprocessing.Pipe(duplex=False)
-    return ours, theirs
-
-
-def helper_start(niceness: int, lifeline_end: Any = None) -> None:
-    """What a helper forked from the fork server does first: the run's priority, and leaving with the run.
+def helper_start(niceness: int) -> None:
+    """What a helper forked from the fork server does first: its priority, and leaving with the run.
 
     Every child of the fork server holds the fork server's own lifeline (so
     multiprocessing has it), and the fork server lives until its children
-    are gone: a helper that waits for work must leave by itself when the
-    run is killed.  A thread here waits for the end of file of
-    ``lifeline_end`` (the run holds the other end and never writes) and then
-    ends this process.
+    are gone: a helper must leave by itself when the run is killed, at the
+    end of file (or broken pipe) of the pipe it shares with the run.
 
     Parameters
     ----------
     niceness : int
-        The run's ``nice`` value (:func:`take_niceness`).
-    lifeline_end : Connection, optional
-        The helper's end of :func:`lifeline`; without it the helper must
-        see the run's end some other way (the end of file of its own pipe).
+        The ``nice`` value to take (:func:`take_niceness`).
     """
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the run decides when its helpers stop
     take_niceness(niceness)
     die_with_parent()
-    if lifeline_end is None:
-        return
-
-    def watch() -> None:
-        try:
-            lifeline_end.recv_bytes()
-        except Exception:  # end of file: the run is gone
-            pass
-        os._exit(0)
-
-    threading.Thread(target=watch, name="hullstress-lifeline", daemon=True).start()

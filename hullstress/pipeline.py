@@ -411,7 +411,6 @@ def run(
     """
     from .corpus.baseline import compare_with_baseline, load_baseline
     from .progress import PhaseProgress, ProgressBar
-    from .report.stage import FindingsBeside
     from .report.writer import OutputLog, RowStream, new_run_dir, prepare_report
 
     began = time.perf_counter()
@@ -451,7 +450,8 @@ def run(
             on_row(row)
 
     # The report's imports now (matplotlib too, in a thread, with one worker: see prepare_report).
-    drawer = prepare_report(pictures=options.pictures, workers=max(1, sweep.runner_options().workers))
+    report_workers = max(1, sweep.runner_options().workers)  # processes the report's helpers may keep busy
+    drawer = prepare_report(pictures=options.pictures, workers=report_workers)
     started = time.perf_counter()
     the_run.seconds["generate"] = started - began  # the cases, the output folder, the report's imports
     with signals.installed(), drawer, ExitStack() as helpers:
@@ -490,7 +490,9 @@ def run(
         # The table is final: with workers to spare, helpers compute the findings (a function of the
         # table alone) and warm up the picture drawers now, in the core this process leaves idle while
         # it writes the tables and groups the failures, and in what triage leaves idle.
-        findings = helpers.enter_context(FindingsBeside(the_run.table, max(1, sweep.runner_options().workers)))
+        from .report.stage import FindingsBeside
+
+        findings = helpers.enter_context(FindingsBeside(the_run.table, report_workers))
         drawer.begin()
         _write_tables(the_run, options)  # the table is safe on disk before triage
         stream.close(remove=not the_run.environment_errors)

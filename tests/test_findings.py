@@ -259,7 +259,7 @@ def test_findings_computed_beside_the_report_are_the_findings_of_the_table(monke
     table = pd.concat([_sphere_table(), _eps_table()], ignore_index=True)
     want = findings_markdown(compute_findings(table, source="run `x`"))
     with stage.FindingsBeside(table, 2) as beside:
-        assert beside._future is not None  # a helper computes them
+        assert beside.helped  # a helper computes them
         assert findings_markdown(beside.result("run `x`")) == want
     assert findings_markdown(stage.FindingsBeside(table, 1).result("run `x`")) == want
     early = stage.FindingsBeside(table, 2)
@@ -269,8 +269,10 @@ def test_findings_computed_beside_the_report_are_the_findings_of_the_table(monke
     def refused(*args, **kwargs):
         raise OSError("no process for you")
 
-    monkeypatch.setattr(stage, "ProcessPoolExecutor", refused)
-    assert findings_markdown(stage.FindingsBeside(table, 2).result("run `x`")) == want
+    monkeypatch.setattr(stage.multiprocessing, "get_context", refused)
+    refused_helper = stage.FindingsBeside(table, 2)
+    assert not refused_helper.helped
+    assert findings_markdown(refused_helper.result("run `x`")) == want
 
 
 @pytest.fixture(scope="module")

@@ -20,8 +20,6 @@ import dataclasses
 import json
 import multiprocessing
 import time
-from concurrent.futures import CancelledError, ProcessPoolExecutor
-from concurrent.futures.process import BrokenProcessPool
 from collections.abc import Callable, Mapping, Sequence
 from contextlib import nullcontext
 from dataclasses import dataclass, field
@@ -31,7 +29,7 @@ from typing import Any, ContextManager
 import pandas as pd
 
 from ..files import atomic_write_text
-from ..forkserver import helper_start, lifeline
+from ..forkserver import helper_start
 from ..triage.records import Cause, TriageResult
 from .failures import FailureRecord, draw_picture, with_picture, write_cause_folder
 from .picture_helper import PictureDrawer
@@ -181,10 +179,11 @@ def write_run_report(
         if unreached:
             later.append("Not reached (the run ended early): " + ", ".join(
                 f"{family} {count} calls" for family, count in sorted(unreached.items())) + ".")
-        if len(table) and (table["transform"].fillna("").astype(str) != "").any():
+        transformed = table["transform"].fillna("").astype(str) != "" if len(table) else None
+        if transformed is not None and transformed.any():
             changes = metamorphic_changes(table)
             atomic_write_text(run_dir / "metamorphic.csv", changes.to_csv(index=False))
-            copies = int((table["transform"].fillna("").astype(str) != "").sum())
+            copies = int(transformed.sum())
             later.append(f"Metamorphic copies: {len(changes)} of {copies} calls on a transformed copy gave "
                          "another verdict than on the original (metamorphic.csv).")
         folders = {r.cause.slug: r.folder.relative_to(run_dir).as_posix() for r in records}
@@ -288,10 +287,11 @@ class FindingsBeside:
     With ``workers >= 2`` they are computed in a process of their own,
     forked from the run's fork server (so it starts with pandas loaded) at
     the lowest priority, from the moment the table is final (the pipeline
-    starts them once the sweep's tables are written: they take what triage
-    leaves idle of the cores); otherwise, or if that process cannot start or dies, here, when
+    starts it when the sweep ends: it takes what triage leaves idle of the
+    cores); otherwise, or if that process cannot start or dies, here, when
     asked for.  Either way the same function of the same table: the same
-    findings.
+    findings.  The process sends them on a pipe and leaves; if the run is
+    killed first, that send fails and it leaves all the same.
 
     Parameters
     ----------
@@ -303,28 +303,35 @@ class FindingsBeside:
 
     def __init__(self, table: pd.DataFrame, workers: int) -> None:
         self._table = table
-        self._executor: ProcessPoolExecutor | None = None
-        self._future: Any = None
+        self._process: Any = None
+        self._conn: Any = None
         if workers < 2 or "forkserver" not in multiprocessing.get_all_start_methods():
             return
         try:
             # The fork server, not fork: the run's own process may hold threads (a progress bar).
-            # The lowest priority: it runs while triage leaves a core idle, and must not slow the
-            # process that feeds the workers; it leaves with the run (helper_start).
-            self._lifeline, theirs = lifeline()
-            self._executor = ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("forkserver"),
-                                                 initializer=helper_start, initargs=(_LOWEST_PRIORITY, theirs))
-            self._future = self._executor.submit(compute_findings, table)
-        except (OSError, RuntimeError):
+            context = multiprocessing.get_context("forkserver")
+            self._conn, theirs = context.Pipe(duplex=False)
+            self._process = context.Process(target=_findings_in_helper, args=(theirs, table), daemon=True,
+                                            name="hullstress-findings")
+            try:
+                self._process.start()
+            finally:
+                theirs.close()  # this process's copy: the helper's death then reads as end of file here
+        except (OSError, RuntimeError, ValueError):
             self.close()
+
+    @property
+    def helped(self) -> bool:
+        """Whether a helper process computes the findings."""
+        return self._process is not None
 
     def result(self, source: str) -> Findings:
         """The findings, headed ``source`` (:func:`run_source`: known only when the report is written)."""
         found: Findings | None = None
-        if self._future is not None:
+        if self._conn is not None:
             try:
-                found = self._future.result()
-            except (BrokenProcessPool, CancelledError, OSError):  # the helper died, or was closed: here then
+                found = self._conn.recv()
+            except (EOFError, OSError):  # the helper died, or was closed: here then
                 found = None
             finally:
                 self.close()
@@ -334,16 +341,28 @@ class FindingsBeside:
 
     def close(self) -> None:
         """End the helper process (its work is dropped if it is not done)."""
-        if self._executor is not None:
-            self._executor.shutdown(wait=False, cancel_futures=True)
-            self._executor = None
-            self._lifeline.close()
+        if self._process is not None:
+            self._process.kill()
+            self._process.join()
+            self._process = None
+        if self._conn is not None:
+            self._conn.close()
+            self._conn = None
 
     def __enter__(self) -> FindingsBeside:
         return self
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+def _findings_in_helper(conn: Any, table: pd.DataFrame) -> None:
+    """The findings helper: compute them, send them, leave (the send fails if the run is gone)."""
+    helper_start(_LOWEST_PRIORITY)  # it runs while triage leaves a core idle, never before the run's process
+    try:
+        conn.send(compute_findings(table))
+    except Exception:  # the run is gone, or the findings failed: the run computes them itself
+        pass
 
 
 def _needs_registration(algorithm: str) -> bool:
