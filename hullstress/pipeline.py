@@ -459,7 +459,8 @@ def run(
         try:
             with signals.raising():
                 if options.executor is None:
-                    result = run_sweep(sweep, on_row=collect, tasks=the_plan.tasks)
+                    # The picture drawers warm up on the first core the sweep's tail leaves idle.
+                    result = run_sweep(sweep, on_row=collect, tasks=the_plan.tasks, on_idle=drawer.begin)
                     the_run.table, the_run.stats = result.table, result.stats
                 else:
                     the_run.stats = options.executor(the_plan, collect)
@@ -487,9 +488,10 @@ def run(
             the_run.table = sort_table(to_frame(rows), [c.case_id for c in the_plan.cases])
         the_run.seconds["sweep"] = time.perf_counter() - started
         the_run.signal = signals.signum
-        # The table is final: with workers to spare, helpers compute the findings (a function of the
-        # table alone) and warm up the picture drawers now, in the core this process leaves idle while
-        # it writes the tables and groups the failures, and in what triage leaves idle.
+        # The table is final: with workers to spare, a helper computes the findings (a function of the
+        # table alone) now, in the core this process leaves idle while it writes the tables and groups
+        # the failures, and in what triage leaves idle.  The picture drawers began warming up when the
+        # sweep's tail first left a core idle (begun here if it never did).
         from .report.stage import FindingsBeside
 
         findings = helpers.enter_context(FindingsBeside(the_run.table, report_workers))

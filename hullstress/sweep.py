@@ -308,8 +308,8 @@ def build_tasks(options: SweepOptions) -> tuple[list[Task], list[Case], dict[int
     return tasks, [c for c in kept if c.case_id in in_tasks], configs, skipped
 
 
-def _execute_with_budget(tasks: Sequence[Task], runner: RunnerOptions,
-                         collect: Callable[[ResultRow], None]) -> ExecutionStats:
+def _execute_with_budget(tasks: Sequence[Task], runner: RunnerOptions, collect: Callable[[ResultRow], None],
+                         on_idle: Callable[[], None] | None = None) -> ExecutionStats:
     """Run each family's first (smallest) case whatever the budget, then the rest while it lasts.
 
     A time budget spends itself round robin over the schedule, but a budget
@@ -322,10 +322,12 @@ def _execute_with_budget(tasks: Sequence[Task], runner: RunnerOptions,
         (rest if task.case.family in seen else first).append(task)
         seen.add(task.case.family)
     start = time.perf_counter()
-    stats = execute(first, dataclasses.replace(runner, time_budget=None), collect)
+    # Only the last part's tail is the sweep's.
+    stats = execute(first, dataclasses.replace(runner, time_budget=None), collect,
+                    on_idle=None if rest else on_idle)
     remaining = runner.time_budget - (time.perf_counter() - start)
     if rest and remaining > 0:
-        more = execute(rest, dataclasses.replace(runner, time_budget=remaining), collect)
+        more = execute(rest, dataclasses.replace(runner, time_budget=remaining), collect, on_idle=on_idle)
         stats.merge_counts(more)
         stats.calls_done += more.calls_done
         stats.algorithm_seconds += more.algorithm_seconds
@@ -352,6 +354,7 @@ def run_sweep(
     *,
     on_row: Callable[[ResultRow], None] | None = None,
     tasks: list[Task] | None = None,
+    on_idle: Callable[[], None] | None = None,
 ) -> SweepResult:
     """Build the cases and run every config on them.
 
@@ -362,6 +365,9 @@ def run_sweep(
         Called with each row as it arrives (for streaming to disk).
     tasks : list of Task, optional
         Pre-built tasks (from :func:`build_tasks`), to skip rebuilding them.
+    on_idle : callable, optional
+        Called once when a core frees at the sweep's end (see
+        :func:`hullstress.runner.execute`).
 
     Returns
     -------
@@ -382,8 +388,8 @@ def run_sweep(
 
     runner = options.runner_options()
     if runner.time_budget is None:
-        stats = execute(tasks, runner, collect)
+        stats = execute(tasks, runner, collect, on_idle=on_idle)
     else:
-        stats = _execute_with_budget(tasks, runner, collect)
+        stats = _execute_with_budget(tasks, runner, collect, on_idle)
     table = sort_table(to_frame(rows), [c.case_id for c in cases])
     return SweepResult(table=table, cases=cases, configs=configs, stats=stats, skipped=skipped)

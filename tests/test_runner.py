@@ -464,6 +464,26 @@ def test_call_pool_uses_every_worker(plugin):
     assert len({r[0]["reason"] for r in rows}) == 2
 
 
+@pytest.mark.parametrize("workers", [1, 2])
+def test_on_idle_is_called_once_when_a_worker_runs_out_of_work_at_the_tail(plugin, workers):
+    # One slow call (0.25 s) first, then quick ones: with 2 workers one of them runs out of work
+    # while the slow call still runs, and the caller hears of it then, once.  With 1 worker no
+    # core ever frees before the end.
+    cases = _cases(7)
+    tasks = [Task(0, cases[0], (AlgorithmConfig(P + "slow"),))]
+    tasks += [Task(i, c, (AlgorithmConfig(P + "ok"),)) for i, c in enumerate(cases[1:], start=1)]
+    rows: list = []
+    heard: list[int] = []
+    execute(tasks, RunnerOptions(workers=workers, timeout=5.0, qhull=False), rows.append,
+            on_idle=lambda: heard.append(len(rows)))
+    assert len(rows) == len(tasks)
+    if workers == 1:
+        assert heard == []
+    else:
+        assert len(heard) == 1
+        assert heard[0] < len(tasks)  # the slow call had not ended
+
+
 class _RecordingPipe:
     """A worker's pipe end that only records what the parent sends (no worker behind it)."""
 

@@ -3,11 +3,12 @@
 Drawing the top causes' pictures is the report's longest step: about 50 ms a
 picture on matplotlib's Agg canvas, most of it ticks and text, after about
 0.3 s of importing matplotlib and drawing a first picture (fonts, 3D axes).
-A run with two or more workers has the cores for it.  When its sweep ends
+A run with two or more workers has the cores for it.  When its sweep's tail
+first leaves a core idle, or at the latest when the sweep ends
 (:meth:`PictureDrawer.begin`), a helper process forked from the run's fork
 server imports matplotlib, draws a throw-away picture and forks
-:data:`DRAWERS` - 1 copies of itself, warm as it is, while this process writes
-the tables and groups the failures (a core is idle then); this process
+:data:`DRAWERS` - 1 copies of itself, warm as it is, on that idle core
+(while the last calls run, or this process writes the tables); this process
 never imports matplotlib.  In the report the drawers take the requested
 pictures in turn while this process writes the cause folders and the
 tables (and the findings come from another helper that computed them
@@ -94,8 +95,8 @@ def _draw_until_closed(conn: Connection) -> None:
 
 def _warm_up() -> None:
     """Draw a 2D and a 3D picture and throw them away: the first drawing in a process loads the fonts
-    and builds the 3D axes' machinery (about 0.1 s after the 0.25 s import), which the helper does when
-    the sweep ends, not in the report."""
+    and builds the 3D axes' machinery (about 0.1 s after the 0.25 s import), which the helper does at
+    the sweep's tail, not in the report."""
     import numpy as np
 
     from .pictures import failure_picture
@@ -199,8 +200,8 @@ class PictureDrawer:
     """Where the report's pictures are drawn: by a helper process, or here.
 
     Make one when the run begins (with one worker it starts importing
-    matplotlib here, in a thread), :meth:`begin` it when the sweep ends
-    (with more, that starts the drawers), :meth:`request` each picture once
+    matplotlib here, in a thread), :meth:`begin` it when a core frees at
+    the sweep's tail (with more, that starts the drawers), :meth:`request` each picture once
     its cause's folder is written, then take each with :meth:`drawn` (in
     any order; the drawers take the requests in turn), and :meth:`close`
     it (or use a ``with`` block) at the end.
@@ -242,10 +243,11 @@ class PictureDrawer:
     def begin(self) -> None:
         """Start the helper now (with two workers or more), which loads matplotlib and warms up.
 
-        The pipeline calls this when the sweep ends: the helper then warms
-        up while this process writes the tables and groups the failures,
-        when a core is idle, instead of taking CPU from the sweep's workers.
-        Without it, the first :meth:`request` starts the helper.
+        The pipeline calls this when the sweep's tail first leaves a core
+        idle (a worker has nothing left to run), and again when the sweep
+        ends: the helper then warms up on a core the workers do not need,
+        instead of taking CPU from them.  Without it, the first
+        :meth:`request` starts the helper.
         """
         with self._lock:
             if self._begun:

@@ -57,7 +57,8 @@ def _platform_notes(options: RunnerOptions) -> list[str]:
     return []
 
 
-def execute(tasks: Sequence[Task], options: RunnerOptions, on_row: Callable[[ResultRow], None]) -> ExecutionStats:
+def execute(tasks: Sequence[Task], options: RunnerOptions, on_row: Callable[[ResultRow], None], *,
+            on_idle: Callable[[], None] | None = None) -> ExecutionStats:
     """Run every config of every task and hand each row to ``on_row`` as it arrives.
 
     Parameters
@@ -69,6 +70,10 @@ def execute(tasks: Sequence[Task], options: RunnerOptions, on_row: Callable[[Res
     on_row : callable
         Called once per finished call, in arrival order.  An exception from it
         (KeyboardInterrupt, a SIGTERM handler's) stops the run and kills the workers.
+    on_idle : callable, optional
+        With isolated workers on this machine: called once, when every task
+        is sent and a worker has nothing left to run while others still work
+        (a core is free from then on until the end).  Not called otherwise.
 
     Returns
     -------
@@ -103,7 +108,7 @@ def execute(tasks: Sequence[Task], options: RunnerOptions, on_row: Callable[[Res
     else:
         settings = PoolSettings(timeout=options.timeout, check_timeout=options.effective_check_timeout,
                                 qhull=options.qhull, budget_deadline=deadline, refs=algorithm_refs(tasks),
-                                qhull_options=options.qhull_options)
+                                qhull_options=options.qhull_options, on_idle=on_idle)
         pool = WorkerPool(max(1, min(options.workers, len(tasks))), memory_limit_bytes=options.memory_limit_bytes)
         stats = ExecutionStats(backend="local", start_method=start_method(), workers=pool.size,
                                notes=_platform_notes(options))

@@ -113,6 +113,10 @@ class PoolSettings:
         Jobs queued per worker: the one running and ``prefetch - 1`` waiting
         in its pipe (within :data:`PREFETCH_MAX_BYTES`), so that a worker
         that ends a job starts the next one without waiting for the parent.
+    on_idle : callable or None
+        Called once, the first time a worker has nothing left to run while
+        others still work (every job is sent: the run's tail), so that the
+        caller can start work of its own on the core that frees.
     """
 
     timeout: float
@@ -122,6 +126,7 @@ class PoolSettings:
     refs: dict[str, AlgorithmRef] = field(default_factory=dict)
     qhull_options: str | None = None
     prefetch: int = PREFETCH_DEPTH
+    on_idle: Callable[[], None] | None = None
 
     def budget_over(self) -> bool:
         return self.budget_deadline is not None and time.time() >= self.budget_deadline
@@ -231,6 +236,7 @@ class WorkerPool:
         self._wake: tuple[int, int] | None = None
         self._fresh_waiting: deque[PendingJob] = deque()  # jobs for a fresh worker, stepped aside
         self._held: int | None = None  # the slot kept free of other jobs to be retired for them
+        self._on_idle: Callable[[], None] | None = None  # settings.on_idle until it is called
 
     @property
     def size(self) -> int:
@@ -397,6 +403,7 @@ class WorkerPool:
         """
         self._fresh_waiting.clear()
         self._held = None
+        self._on_idle = settings.on_idle
         try:
             self._loop(queue, settings, on_row, stats)
         except BaseException:
@@ -415,6 +422,9 @@ class WorkerPool:
                 if unsent:  # only the budget leaves work unsent
                     stats.budget_exhausted = True
                 return
+            if self._on_idle is not None and not unsent and len(busy) < len(self._slots):
+                idle, self._on_idle = self._on_idle, None
+                idle()
             now = time.monotonic()
             next_deadline = min((s.t0 + self._limit(s, settings) for s in busy), default=now + settings.check_timeout)
             fds = [fd for s in busy for fd in (s.conn.fileno(), s.proc.sentinel)]
