@@ -9,6 +9,11 @@ Triage sends each shrink candidate as one job of one config: this measures
 what such a job costs end to end through :class:`hullstress.runner.CallPool`
 (pickling, messages, the parent's handling) next to the same call, facts and
 check run in this process (:func:`hullstress.runner._protocol.run_job`).
+
+A second table runs the same jobs each in a fresh worker (``alone``), as
+triage runs every candidate of a crash's shrink: what a worker's start, its
+first job and its retirement cost, in wall time and in CPU time of the whole
+machine (fork server, workers and this process; read from ``/proc/stat``).
 """
 
 from __future__ import annotations
@@ -52,13 +57,41 @@ def main(argv: list[str] | None = None) -> int:
     local = (time.perf_counter() - start) / len(tasks)
     with CallPool(args.workers) as pool:
         pool.run(tasks[:10], timeout=10, qhull=args.qhull)
+        busy = _busy_seconds()
         start = time.perf_counter()
         pool.run(tasks, timeout=10, qhull=args.qhull)
         pooled = (time.perf_counter() - start) / len(tasks)
+        pooled_cpu = (_busy_seconds() - busy) / len(tasks)
+        busy = _busy_seconds()
+        start = time.perf_counter()
+        pool.run(tasks, timeout=10, qhull=args.qhull, alone=[True] * len(tasks))
+        fresh = (time.perf_counter() - start) / len(tasks)
+        fresh_cpu = (_busy_seconds() - busy) / len(tasks)
     print(f"| algorithm | jobs | in process ms/job | pool of {args.workers} ms/job (wall) | speed-up |")
     print("| --- | ---: | ---: | ---: | ---: |")
     print(f"| {args.algorithm} | {len(tasks)} | {local * 1e3:.2f} | {pooled * 1e3:.2f} | {local / pooled:.2f}x |")
+    print()
+    print(f"| pool of {args.workers} | ms/job (wall) | CPU ms/job (machine) |")
+    print("| --- | ---: | ---: |")
+    print(f"| a worker that ran jobs before | {pooled * 1e3:.2f} | {_ms(pooled_cpu)} |")
+    print(f"| a fresh worker per job | {fresh * 1e3:.2f} | {_ms(fresh_cpu)} |")
     return 0
+
+
+def _busy_seconds() -> float:
+    """CPU seconds the whole machine has spent busy since boot (Linux), or NaN elsewhere."""
+    try:
+        with open("/proc/stat") as stat:
+            ticks = [int(v) for v in stat.readline().split()[1:9]]
+    except OSError:
+        return float("nan")
+    import os
+
+    return (sum(ticks) - ticks[3] - ticks[4]) / os.sysconf("SC_CLK_TCK")  # all but idle and iowait
+
+
+def _ms(seconds: float) -> str:
+    return "n/a" if seconds != seconds else f"{seconds * 1e3:.2f}"
 
 
 if __name__ == "__main__":
