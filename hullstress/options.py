@@ -172,7 +172,7 @@ PROFILES: Mapping[str, Profile] = MappingProxyType(
             # The slowest call that ends takes under 0.1 s at these sizes (0.085 s measured, on 2 idle
             # cores); a hang holds a worker this long.  The same limit triage gives a shrink candidate.
             timeout=2.0,
-            # Measured on 2 idle cores (2026-11-27): 18.1 s end to end with 2 workers (sweep 7.7 s, triage 8.7 s
+            # Measured on 2 idle cores (2026-11-27): 18.2 s end to end with 2 workers (sweep 7.8 s, triage 8.5 s
             # for 390 groups and 6027 evaluations), about a quarter more when the machine runs slow; 30 per group
             # lets a 24-point case lose its extra points.
             # Simplifying coordinates took 2700 of the 7500 evaluations; 8 keep its scale and global rounding.
