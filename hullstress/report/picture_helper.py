@@ -201,10 +201,10 @@ class PictureDrawer:
 
     Make one when the run begins (with one worker it starts importing
     matplotlib here, in a thread), :meth:`begin` it when a core frees at
-    the sweep's tail (with more, that starts the drawers), :meth:`request` each picture once
-    its cause's folder is written, then take each with :meth:`drawn` (in
-    any order; the drawers take the requests in turn), and :meth:`close`
-    it (or use a ``with`` block) at the end.
+    the sweep's tail (with more, that starts the drawers), :meth:`request`
+    each picture once its cause's folder is written, then take each with
+    :meth:`drawn` (in any order; the drawers take the requests in turn),
+    and :meth:`close` it (or use a ``with`` block) at the end.
 
     Examples
     --------

@@ -148,10 +148,10 @@ def write_run_report(
         writes the folders, and the pictures in a third (the same findings
         and pictures: functions of the table and the folders alone).
     drawer : PictureDrawer, optional
-        Where the pictures are drawn: the run's, started when it began
-        (:meth:`PictureDrawer.start`), so that matplotlib is loaded by now.
-        By default one is started here for ``workers``.  Either way it is
-        closed before this returns.
+        Where the pictures are drawn: the run's, made when it began
+        (:func:`~.writer.prepare_report`) and begun during the sweep, so
+        that matplotlib is loaded by now.  By default one is started here
+        for ``workers``.  Either way it is closed before this returns.
     findings_beside : FindingsBeside, optional
         The findings of ``table``, started by the pipeline as soon as the
         table was final; by default started here for ``workers``.

@@ -154,7 +154,8 @@ def prepare_report(*, pictures: bool = True, workers: int = 1) -> PictureDrawer:
     with one worker matplotlib (the slowest import) loads now, in a
     background thread, while the sweep runs; with more, the drawer's helper
     processes load it once :meth:`~.picture_helper.PictureDrawer.begin` is
-    called at the sweep's end.  The caller closes the drawer.
+    called (the pipeline calls it when the sweep's tail first leaves a core
+    idle).  The caller closes the drawer.
     """
     _versions()
     _parquet_available()
