@@ -53,7 +53,7 @@ from typing import TYPE_CHECKING, Any, Protocol
 import pandas as pd
 
 from .case import Case
-from .errors import EnvironmentFailure, ExitStatus, Interrupted, UsageError, is_environment_error
+from .errors import CorpusError, EnvironmentFailure, ExitStatus, Interrupted, UsageError, is_environment_error
 from .results import ResultRow, to_frame
 from .runner import ExecutionStats, Task
 from .qhull_format import check_qhull_options
@@ -168,8 +168,9 @@ class Run:
     report : ReportFiles or None
         None when the run stopped before its report (a refused write).
     comparison : DataFrame or None
-        Failure groups against the baseline (``state``: new, still-failing, fixed).
-    corpus_saved : list of (Path, bool)
+        Failure groups against the baseline (:func:`hullstress.corpus.baseline.compare_with_baseline`;
+        ``state``: new, still-failing, fixed, not-reached).
+    corpus_saved : list of (Path, bool, Signature)
         Corpus entries written (True) or already there (False).
     signal : int or None
         The signal that interrupted the run.
@@ -189,7 +190,8 @@ class Run:
     triage: Any = None
     report: Any = None
     comparison: pd.DataFrame | None = None
-    corpus_saved: list[tuple[Path, bool]] = field(default_factory=list)
+    corpus_saved: list[tuple[Path, bool, Any]] = field(default_factory=list)
+    baseline_note: str = ""
     signal: int | None = None
     complete: bool = True
     seconds: dict[str, float] = field(default_factory=dict)
@@ -352,6 +354,12 @@ def _check_output_folders(options: RunOptions) -> None:
 
     if options.save_corpus:
         writable_folder(options.save_corpus, "--save-corpus")
+        from .corpus.store import held_groups
+
+        try:  # which groups it holds decides what is saved: an unreadable entry is found now, not after the sweep
+            held_groups(options.save_corpus)
+        except CorpusError as exc:
+            raise UsageError(f"--save-corpus: {exc}") from None
     if options.junit:
         junit = Path(options.junit)
         if junit.is_dir():
@@ -409,7 +417,7 @@ def run(
     EnvironmentFailure
         An output folder that is read-only or not writable, found before any work.
     """
-    from .corpus.baseline import compare_with_baseline, load_baseline
+    from .corpus.baseline import load_baseline
     from .progress import PhaseProgress, ProgressBar
     from .report.writer import OutputLog, RowStream, new_run_dir, prepare_report
 
@@ -425,12 +433,14 @@ def run(
         start_method()
         if options.yield_cpu:
             yield_cpu_to_workers()
-    baseline = load_baseline(options.baseline) if options.baseline else None  # fails before the sweep
+    baseline = None
+    if options.baseline:  # fails before the sweep; the folder --save-corpus creates may not exist yet (night 1)
+        baseline = load_baseline(options.baseline, may_be_created=_same_path(options.baseline, options.save_corpus))
     the_plan = plan(sweep, out=options.out, last_failed=options.last_failed)
     _check_output_folders(options)
     run_dir = new_run_dir(options.out, _run_name(options))
     say(f"hullstress: {len(the_plan.tasks)} cases x configs = {the_plan.n_calls} calls -> {run_dir}")
-    the_run = Run(run_dir=run_dir, plan=the_plan, table=to_frame([]))
+    the_run = Run(run_dir=run_dir, plan=the_plan, table=to_frame([]), baseline_note=baseline.note if baseline else "")
     signals = _Signals()
     rows: list[ResultRow] = []
     stream = RowStream(run_dir)
@@ -516,7 +526,7 @@ def run(
                 f"in {the_run.seconds['triage']:.1f} s ({the_run.triage.calls} evaluations)")
         the_run.signal = signals.signum
         if the_run.signal is None and baseline is not None:
-            the_run.comparison = compare_with_baseline(the_run.table, baseline)
+            the_run.comparison = _compare(the_run, options, baseline, signals)
         if options.save_corpus and the_run.signal is None:
             the_run.corpus_saved = _save_corpus(options, the_run, signals)
         the_run.signal = signals.signum
@@ -643,21 +653,51 @@ def _state(the_run: Run) -> str:
     return "complete" if the_run.complete else "incomplete"
 
 
-def _save_corpus(options: RunOptions, the_run: Run, signals: _Signals) -> list[tuple[Path, bool]]:
-    """The minimised new failures become corpus entries (only new groups when there is a baseline)."""
-    from .corpus.save import save_minimised_failures
+def _same_path(a: str | None, b: str | None) -> bool:
+    """``--baseline`` and ``--save-corpus`` name one folder (the nightly loop's command line)."""
+    return bool(a and b) and os.path.abspath(a) == os.path.abspath(b)  # type: ignore[arg-type]
 
-    new_groups = None
-    if the_run.comparison is not None:
-        new = the_run.comparison[the_run.comparison["state"] == "new"]
-        new_groups = set(map(tuple, new[["algorithm", "sphere", "eps", "generator", "signature"]].astype(str).values))
+
+def _planned_calls(the_plan: Plan) -> dict[str, int]:
+    """Calls the plan holds per config label."""
+    planned: dict[str, int] = {}
+    for task in the_plan.tasks:
+        for config in task.configs:
+            planned[config.label] = planned.get(config.label, 0) + 1
+    return planned
+
+
+def _compare(the_run: Run, options: RunOptions, baseline: Any, signals: _Signals) -> pd.DataFrame | None:
+    """The run's failure groups against the baseline; a known group the sweep did not meet is re-run on its case."""
+    from .corpus.baseline import compare_with_baseline
+    from .corpus.replay import recheck_groups
+
+    runner = options.sweep.runner_options()
+    groups = the_run.triage.groups if the_run.triage is not None and not the_run.triage.stopped else None
+    try:
+        with signals.raising():  # re-running a corpus case runs code under test
+            return compare_with_baseline(the_run.table, baseline, _planned_calls(the_run.plan), groups=groups,
+                                         recheck=lambda entries: recheck_groups(entries, runner))
+    except KeyboardInterrupt:
+        return None
+
+
+def _save_corpus(options: RunOptions, the_run: Run, signals: _Signals) -> list[tuple[Path, bool, Any]]:
+    """Every failure group the corpus does not hold yet becomes an entry (its minimal case)."""
+    from .corpus.save import save_new_groups
+    from .triage.grouping import group_failures
+
+    groups = the_run.triage.groups if the_run.triage is not None and not the_run.triage.stopped else None
     runner = options.sweep.runner_options()
     try:
         with _noting_refusals(the_run), signals.raising():  # recording expectations runs every config
-            return save_minimised_failures(
-                options.save_corpus, the_run.triage.records, the_run.plan.cases, new_groups=new_groups,
+            return save_new_groups(
+                options.save_corpus, groups if groups is not None else group_failures(the_run.table),  # type: ignore[arg-type]
+                the_run.triage.records if the_run.triage is not None else [], the_run.plan.cases,
                 workers=runner.workers, timeout=runner.timeout, found_by=f"hullstress run {the_run.run_dir.name}",
             )
     except KeyboardInterrupt:
         pass
+    except CorpusError as exc:  # an unreadable entry: name it, save nothing rather than a second copy of a group
+        the_run.environment_errors.append(f"--save-corpus: {exc}")
     return []

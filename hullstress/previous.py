@@ -3,8 +3,9 @@
 As pytest's options of the same names do with its cache, these read the
 latest run folder under ``--out`` (the one whose ``results.csv``, or
 ``results.partial.csv`` for a run that was killed, is newest) and take the
-(case id, config) calls that failed there (``fail``, ``error``, ``timeout``,
-``crash``).  Case ids are stable across runs (hashes of the exact points and
+(case id, config) calls that failed there: those with a failure signature
+(:func:`hullstress.triage.signature.signature_of`; ``fail``, ``error``,
+``timeout``, ``crash``).  Case ids are stable across runs (hashes of the exact points and
 their provenance), so the same options regenerate the same cases.
 
 * ``only`` (``--last-failed``): run just those calls; when the previous run
@@ -21,7 +22,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from .runner import Task
-from .triage.signature import FAILED_STATUSES
+from .triage.signature import signature_of
 
 __all__ = ["latest_run", "failed_calls", "select_previous_failures", "MODES"]
 
@@ -55,7 +56,7 @@ def failed_calls(run_dir: Path) -> set[tuple[str, str]]:
     failed = set()
     with open(path, newline="", encoding="utf-8") as fh:
         for row in csv.DictReader(fh):
-            if row.get("status") in FAILED_STATUSES:
+            if signature_of(row) is not None:  # a failure as triage and the corpus count one
                 failed.add((row.get("case_id", ""), row.get("config", "")))
     return failed
 

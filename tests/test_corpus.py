@@ -7,17 +7,18 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from hullstress.corpus.baseline import compare_with_baseline, failure_groups, load_baseline
+from hullstress.corpus.baseline import compare_with_baseline, load_baseline
 from hullstress.case import Case
 from hullstress.corpus.store import (
     CorpusEntry,
+    held_groups,
     iter_corpus,
     load_entry,
-    row_signature,
     save_entry,
 )
 from hullstress.errors import CorpusError, UsageError
 from hullstress.corpus.replay import classify
+from hullstress.triage.signature import Signature, verdict_of
 
 SPECIALS = [
     [0.1, -0.0],
@@ -29,7 +30,7 @@ SPECIALS = [
 
 def _entry(points, **kw):
     case = Case(points=np.array(points, dtype=np.float64), dim=2, family="fam", params={"k": 1}, seed=7, size=4)
-    return CorpusEntry(case=case, expectations={"a[sphere=off,eps=n/a]": "fail:containment"}, provenance={"family": "fam", "params": {"k": 1}, "seed": 7}, **kw)
+    return CorpusEntry(case=case, expectations={"a[sphere=off,eps=n/a]": "fail containment (gross)"}, provenance={"family": "fam", "params": {"k": 1}, "seed": 7}, **kw)
 
 
 def test_round_trip_is_bit_exact_including_nan_inf_and_signed_zero(tmp_path):
@@ -85,7 +86,9 @@ def test_concurrent_writers_never_leave_a_corrupt_file(tmp_path):
     "mutate, message",
     [
         (lambda text: text[: len(text) // 2], "not valid JSON"),
-        (lambda text: text.replace('"format_version": 1', '"format_version": 99'), "unknown format version 99"),
+        (lambda text: text.replace('"format_version": 2', '"format_version": 99'), "unknown format version 99"),
+        (lambda text: text.replace('"format_version": 2', '"format_version": 1'), "predates failure groups"),
+        (lambda text: text.replace('"state": "failing"', '"state": "gone"'), "state must be one of"),
         (lambda text: text.replace('"hullstress-corpus"', '"something-else"'), "not a hullstress corpus file"),
         (lambda text: text.replace('"0.1"', '"0.2"'), "content hash"),
         (lambda text: text.replace('"shape": [\n  4,\n  2\n ]', '"shape": [3, 3]'), "malformed entry"),
@@ -108,13 +111,14 @@ def test_corrupt_files_give_one_clear_error_naming_the_file(tmp_path, mutate, me
 @pytest.mark.parametrize(
     "expected, actual, outcome",
     [
-        ("fail:containment", "fail:containment", "still-failing"),
-        ("fail:containment", "pass", "fixed"),
-        ("error", "rejected", "fixed"),
-        ("fail:containment", "fail:convexity", "changed"),
-        ("crash", "timeout", "changed"),
-        ("pass", "error", "new-failure"),
-        (None, "fail:manifoldness", "new-failure"),
+        ("fail containment (gross)", "fail containment (gross)", "still-failing"),
+        ("fail containment (gross)", "pass", "fixed"),
+        ("error KeyError at m:3 in f", "rejected", "fixed"),
+        ("fail containment (gross)", "fail containment (roundoff)", "changed"),
+        ("fail containment (gross)", "fail convexity (gross)", "changed"),
+        ("crash SIGSEGV", "timeout", "changed"),
+        ("pass", "error KeyError at m:3 in f", "new-failure"),
+        (None, "fail manifoldness (gross)", "new-failure"),
         ("rejected", "pass", "ok"),
         (None, "pass", "ok"),
     ],
@@ -123,52 +127,111 @@ def test_classify(expected, actual, outcome):
     assert classify(expected, actual) == outcome
 
 
+ROW = {"algorithm": "a", "sphere": "off", "eps": "n/a"}
+
+
 @pytest.mark.parametrize(
-    "row, signature",
+    "row, verdict",
     [
         ({"status": "pass"}, "pass"),
-        ({"status": "crash", "reason": "killed by signal 11"}, "crash"),
-        ({"status": "fail", "reason": "output contract: face 0 ...", "failed_checks": ""}, "fail:contract"),
-        ({"status": "fail", "reason": "x", "failed_checks": "containment,convexity"}, "fail:convexity"),
-        ({"status": "fail", "reason": "returned a hull for invalid input", "failed_checks": ""}, "fail:invalid-input"),
+        ({"status": "crash", "reason": "killed by signal 11 (SIGSEGV)"}, "crash SIGSEGV"),
+        ({"status": "fail", "reason": "output contract: face 0 ...", "failed_checks": ""}, "fail contract"),
+        ({"status": "fail", "reason": "x", "failed_checks": "containment,convexity", "severity": "gross"},
+         "fail convexity,containment (gross)"),  # the report's order of checks, whatever the cell's
+        ({"status": "fail", "reason": "returned a hull for invalid input", "failed_checks": ""}, "fail invalid-input"),
+        ({"status": "error", "reason": "KeyError: 3", "error_frame": "m:3 in f", "stage": "preprocess"},
+         "error in preprocess KeyError at m:3 in f"),
     ],
 )
-def test_row_signature(row, signature):
-    assert row_signature(row) == signature
+def test_the_verdict_a_corpus_records_is_the_failure_signature(row, verdict):
+    assert verdict_of({**ROW, **row}) == verdict
 
 
 def _table(rows):
-    base = {"reason": "", "failed_checks": ""}
-    return pd.DataFrame([{**base, **r} for r in rows])
+    base = {"reason": "", "failed_checks": "", "severity": "", "config": "", "n_points": 4}
+    table = pd.DataFrame([{**base, "case_id": f"c{i}", **r} for i, r in enumerate(rows)])
+    table["config"] = [Signature(r.algorithm, r.sphere, r.eps).config.label for r in table.itertuples()]
+    return table
 
 
-def test_baseline_new_still_and_fixed(tmp_path):
+def _group_entry(points, signature, **kw):
+    case = Case(points=np.array(points, dtype=np.float64), dim=2, family="fam")
+    return CorpusEntry(case=case, expectations={signature.config.label: signature.what}, group=signature, **kw)
+
+
+CONTAINMENT = Signature("a", "off", "n/a", checks="containment", severity="gross")
+ERROR = Signature("a", "off", "n/a", status="error", error="KeyError")
+CRASH_B = Signature("b", "on", "n/a", status="crash", error="SIGSEGV")
+TRIANGLE = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]
+
+
+def test_the_corpus_holds_one_entry_per_failure_group(tmp_path):
+    assert save_entry(tmp_path, _group_entry(TRIANGLE, CONTAINMENT))[1] is True
+    # Another case of the same group is not a second entry; the same case for another group is.
+    assert save_entry(tmp_path, _group_entry(TRIANGLE + [[0.5, 0.5]], CONTAINMENT))[1] is False
+    path, written = save_entry(tmp_path, _group_entry(TRIANGLE, ERROR))
+    assert written and path.name == f"{ERROR.group_id}.json"
+    assert set(held_groups(tmp_path)) == {CONTAINMENT, ERROR}
+    # A fixed entry stays as a passing regression case but holds its group no more.
+    fixed = load_entry(path).with_expectations({ERROR.config.label: "pass"}, "fixed")
+    save_entry(tmp_path, fixed, overwrite=True)
+    assert set(held_groups(tmp_path)) == {CONTAINMENT} and len(list(tmp_path.glob("*.json"))) == 2
+    assert held_groups(tmp_path / "missing") == {}
+
+
+def test_group_ids_do_not_depend_on_anything_but_the_signature():
+    assert CONTAINMENT.group_id == Signature.from_dict(CONTAINMENT.as_dict()).group_id
+    assert len({CONTAINMENT.group_id, ERROR.group_id, CRASH_B.group_id}) == 3
+
+
+def test_baseline_new_still_fixed_and_not_reached(tmp_path):
     old = _table([
-        {"algorithm": "a", "sphere": "off", "eps": "n/a", "generator": "g1", "status": "fail", "failed_checks": "containment"},
-        {"algorithm": "a", "sphere": "off", "eps": "n/a", "generator": "g2", "status": "error"},
-        {"algorithm": "b", "sphere": "on", "eps": "n/a", "generator": "g1", "status": "crash"},  # b not run now
+        {**ROW, "generator": "g1", "status": "fail", "failed_checks": "containment", "severity": "gross"},
+        {**ROW, "generator": "g2", "status": "error", "reason": "KeyError: 3"},
+        {"algorithm": "b", "sphere": "on", "eps": "n/a", "generator": "g1", "status": "crash",
+         "reason": "killed by signal 11 (SIGSEGV)"},
     ])
     new = _table([
-        {"algorithm": "a", "sphere": "off", "eps": "n/a", "generator": "g1", "status": "fail", "failed_checks": "containment"},
-        {"algorithm": "a", "sphere": "off", "eps": "n/a", "generator": "g2", "status": "pass"},
-        {"algorithm": "a", "sphere": "off", "eps": "n/a", "generator": "g3", "status": "timeout"},
+        {**ROW, "generator": "g2", "status": "fail", "failed_checks": "containment", "severity": "gross"},
+        {**ROW, "generator": "g2", "status": "pass"},
+        {**ROW, "generator": "g3", "status": "timeout"},
     ])
     old.to_csv(tmp_path / "results.csv", index=False)
-    cmp = compare_with_baseline(new, load_baseline(tmp_path))
-    states = {(r.generator, r.signature): r.state for r in cmp.itertuples()}
-    assert states == {("g3", "timeout"): "new", ("g1", "fail:containment"): "still-failing", ("g2", "error"): "fixed"}
-    assert len(failure_groups(new)) == 2
+    baseline = load_baseline(tmp_path)
+    assert baseline.groups == {CONTAINMENT, ERROR, CRASH_B}
+    label = CONTAINMENT.config.label
+    cmp = compare_with_baseline(new, baseline, {label: 3})
+    states = {(r.status, r.algorithm): r.state for r in cmp.itertuples()}
+    # The family does not matter (g1 then, g2 now); b did not run now: left out.
+    assert states == {("timeout", "a"): "new", ("fail", "a"): "still-failing", ("error", "a"): "fixed"}
+    # A sweep cut short (4 calls planned, 3 ran) never calls a group fixed.
+    short = compare_with_baseline(new, baseline, {label: 4})
+    assert dict(zip(short["status"], short["state"]))["error"] == "not-reached"
+    # A corpus group the sweep did not meet but whose case still fails so is still failing.
+    still = compare_with_baseline(new, baseline, {label: 3}, recheck=lambda entries: {ERROR: True})
+    assert dict(zip(still["status"], still["state"]))["error"] == "fixed"  # a run baseline has no entries to re-run
 
 
 def test_baseline_from_corpus_and_bad_paths(tmp_path):
-    save_entry(tmp_path, _entry([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]))
-    groups = load_baseline(tmp_path)
-    assert groups[["algorithm", "generator", "signature"]].values.tolist() == [["a", "fam", "fail:containment"]]
+    corpus = tmp_path / "corpus"
+    save_entry(corpus, _group_entry(TRIANGLE, ERROR))
+    baseline = load_baseline(corpus)
+    assert baseline.groups == {ERROR} and set(baseline.entries) == {ERROR}
+    table = _table([{**ROW, "generator": "g", "status": "pass"}])
+    rechecked = compare_with_baseline(table, baseline, {ERROR.config.label: 1}, recheck=lambda e: {ERROR: True})
+    assert list(rechecked["state"]) == ["still-failing"]
+    # The first night: the folder --save-corpus creates; an empty folder.
+    assert load_baseline(tmp_path / "missing", may_be_created=True).groups == frozenset()
+    (tmp_path / "empty").mkdir()
+    assert load_baseline(tmp_path / "empty").groups == frozenset()
     with pytest.raises(UsageError, match="no such file"):
         load_baseline(tmp_path / "missing")
     (tmp_path / "x.txt").write_text("hi")
     with pytest.raises(UsageError, match="expected a run folder"):
         load_baseline(tmp_path / "x.txt")
+    (corpus / "bad.json").write_text("{")
+    with pytest.raises(UsageError, match="bad.json"):
+        load_baseline(corpus)
 
 
 def test_replay_of_recorded_configs_ignores_algorithms_registered_later(tmp_path):

@@ -65,7 +65,8 @@ def test_planted_bug_is_saved_minimised_replayed_then_fixed(saved_corpus, tmp_pa
     entry = json.loads(files[0].read_text())
     assert entry["provenance"]["family"] == "uniform" and entry["provenance"]["original_size"] == 40
     assert entry["shape"][0] <= 8  # shrunk from 40 points (the bug needs 6)
-    assert entry["expectations"]["planted-2d[sphere=off,eps=n/a]"] == "fail:containment"
+    assert entry["expectations"]["planted-2d[sphere=off,eps=n/a]"].startswith("fail containment")
+    assert entry["label"] == "planted-2d[sphere=off,eps=n/a] " + entry["expectations"]["planted-2d[sphere=off,eps=n/a]"]
     # Every other config's verdict on the case is recorded too.
     assert "monotone-chain[sphere=off,eps=scaled]" in entry["expectations"]
 
@@ -81,7 +82,9 @@ def test_planted_bug_is_saved_minimised_replayed_then_fixed(saved_corpus, tmp_pa
     _write_plugin(plugin, "raise")
     changed = cli("replay", str(corpus), "--plugin", str(plugin), "--algorithm", "planted-2d", "--workers", "1", cwd=tmp_path)
     assert changed.returncode == 1, changed.stdout + changed.stderr
+    # Failing another way is reported as what it is (and exits 1: nobody has recorded this failure).
     assert outcome_of(changed.stdout) == "changed" and "1 entries with regressions" in changed.stdout
+    assert "got error RuntimeError at " in changed.stdout
     assert "Traceback" not in changed.stderr
 
     # After the fix, --accept records the new verdicts; replay is then quiet.
@@ -89,7 +92,9 @@ def test_planted_bug_is_saved_minimised_replayed_then_fixed(saved_corpus, tmp_pa
     accepted = cli("replay", str(corpus), "--plugin", str(plugin), "--algorithm", "planted-2d", "--accept",
                    "--workers", "1", cwd=tmp_path)
     assert accepted.returncode == 0 and "accepted" in accepted.stdout
-    assert json.loads(files[0].read_text())["expectations"]["planted-2d[sphere=off,eps=n/a]"] == "pass"
+    accepted_entry = json.loads(files[0].read_text())
+    assert accepted_entry["expectations"]["planted-2d[sphere=off,eps=n/a]"] == "pass"
+    assert accepted_entry["state"] == "fixed"  # kept as a passing regression case; it holds its group no more
 
 
 def test_baseline_run_fails_only_for_new_groups(saved_corpus, tmp_path):
@@ -102,6 +107,8 @@ def test_baseline_run_fails_only_for_new_groups(saved_corpus, tmp_path):
     _write_plugin(plugin, "raise")
     new = cli(*args, "--baseline", str(corpus), cwd=tmp_path)
     assert new.returncode == 1 and "1 new" in new.stdout
+    # The old group no longer happens (every case now raises first): fixed, confirmed on its corpus case.
+    assert "1 fixed" in new.stdout and "  fixed: planted-2d[sphere=off,eps=n/a] fail containment" in new.stdout
 
 
 def test_corrupt_corpus_files_are_named_and_the_rest_replays(saved_corpus, tmp_path):
@@ -109,7 +116,7 @@ def test_corrupt_corpus_files_are_named_and_the_rest_replays(saved_corpus, tmp_p
     good = sorted(corpus.glob("*.json"))[0]
     text = good.read_text()
     (corpus / "truncated.json").write_text(text[: len(text) // 3])
-    (corpus / "future.json").write_text(text.replace('"format_version": 1', '"format_version": 7'))
+    (corpus / "future.json").write_text(text.replace('"format_version": 2', '"format_version": 7'))
     res = cli("replay", str(corpus), "--plugin", str(plugin), "--algorithm", "planted-2d", "--workers", "1", cwd=tmp_path)
     assert res.returncode == 2, res.stdout + res.stderr
     errors = res.stderr.strip().splitlines()

@@ -103,6 +103,7 @@ def test_save_corpus_keeps_the_minimal_case_with_its_provenance_and_replays_it(f
     entry = load_entry(path)
     assert np.array_equal(entry.case.points, rec.points)  # the minimal case, bit for bit
     assert entry.provenance["signature"] == rec.signature.slug
+    assert entry.group == rec.signature and path.name == f"{rec.signature.group_id}.json"  # the group it holds
     assert entry.provenance["found_by"].startswith("hullstress reproduce ")
     assert entry.expectations["test-reproduce-drop[sphere=off,eps=n/a]"].startswith("fail")
     # Saving again adds nothing; replaying it finds the failure still failing.

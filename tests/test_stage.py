@@ -9,7 +9,7 @@ import pytest
 from hullstress import get_generator
 from hullstress.case import Case
 from hullstress.config import AlgorithmConfig
-from hullstress.corpus.store import is_failure_signature, row_signature
+from hullstress.triage.signature import is_failure_verdict, verdict_of
 from hullstress.evaluate import evaluate
 from hullstress.records import Stage
 from hullstress.report.tables import failure_counts, status_counts
@@ -129,8 +129,8 @@ def test_counts_signatures_and_corpus_keep_the_stages_apart():
     assert failure_counts(table)[["sphere", "failed", "method_failed"]].values.tolist() == [["on", 0, 1]]
     sig = signature_of(rows[1])
     assert sig.stage == "preprocess" and "__preprocess__" in sig.slug and "in preprocess" in sig.label
-    assert row_signature(rows[1]) == "preprocess/fail:containment"
-    assert is_failure_signature(row_signature(rows[1]))
+    assert verdict_of(rows[1]).startswith("fail in preprocess containment")
+    assert is_failure_verdict(verdict_of(rows[1]))
     # A table from before the stage column reads as the algorithm's.
     old = table.drop(columns=["stage"])
     assert signature_of(old.iloc[1].to_dict()).stage == Stage.ALGORITHM

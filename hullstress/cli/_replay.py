@@ -17,9 +17,10 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
     p = sub.add_parser(
         "replay",
         help="re-run the regression corpus and compare with recorded expectations",
-        description="Replay every corpus entry against every algorithm config of its dimension and report, "
-        "per entry: still failing as recorded, fixed, changed (fails differently), new failure. "
-        "Exit status: 1 if any entry changed or newly fails (a regression); otherwise 2 if a corpus "
+        description="Replay every corpus entry against every algorithm config of its dimension and compare "
+        "each call's verdict with the recorded one: still-failing (the same failure: exit 0), fixed (passes "
+        "now: exit 0), changed (fails another way: exit 1), new-failure (recorded passing, fails now: exit 1). "
+        "Exit status: 1 if any call changed or newly fails; otherwise 2 if a corpus "
         "file could not be read (the others still replay); otherwise 5 if nothing was replayed (an empty "
         "corpus, or no algorithm of its dimensions); otherwise 0. " + EXIT_STATUS_HELP,
     )
@@ -28,7 +29,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
     p.add_argument("--algorithm", action="append", default=[], metavar="NAME", help="replay only this algorithm (repeatable)")
     add_registration_options(p)
     p.add_argument("--accept", action="store_true",
-                   help="record the current verdicts as the new expectations (after a fix)")
+                   help="record the current verdicts as the new expectations (after a fix or a reviewed change); "
+                   "an entry whose failure group no longer fails that way is marked fixed and kept as a passing "
+                   "regression case")
     p.add_argument("--workers", type=count(minimum=0), default=None, metavar="N",
                    help="worker processes (default: all cores; 0 in-process)")
     p.add_argument("--timeout", type=seconds(), default=10.0, metavar="SECONDS", help="per-call timeout (default 10)")
@@ -39,7 +42,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
 def replay_command(args: argparse.Namespace) -> int:
     import os
 
-    from ..corpus.replay import REGRESSIONS, replay_corpus
+    from ..corpus.replay import OUTCOMES, REGRESSIONS, replay_corpus
 
     if not os.path.exists(args.corpus):
         raise UsageError(f"corpus {args.corpus!r}: no such file or directory")
@@ -51,19 +54,22 @@ def replay_command(args: argparse.Namespace) -> int:
     table = result.table
     shown = table if args.verbose else table[table["outcome"] != "ok"]
     for rec in shown.itertuples(index=False):
-        expected = rec.expected or "(none)"
-        print(f"{rec.outcome:<13} {rec.entry} {rec.family:<22} {rec.config:<40} expected {expected:<22} got {rec.actual}")
+        expected = rec.expected or "(nothing recorded)"
+        print(f"{rec.outcome:<13} {rec.entry} {rec.family:<22} {rec.config:<40} expected {expected}; got {rec.actual}")
     per_entry = result.per_entry()
     counts = table["outcome"].value_counts()
     regress_entries = int((per_entry[list(REGRESSIONS)].sum(axis=1) > 0).sum()) if len(per_entry) else 0
     print(
         f"replayed {len(per_entry)} entries x configs = {len(table)} calls: "
-        + ", ".join(f"{counts.get(k, 0)} {k}" for k in ("still-failing", "fixed", "changed", "new-failure", "ok"))
+        + ", ".join(f"{counts.get(k, 0)} {k}" for k in OUTCOMES)
         + f"; {regress_entries} entries with regressions; {len(result.errors)} unreadable files"
     )
     if result.accepted:
         print(f"accepted current verdicts as expectations in {len(result.accepted)} files")
         return 0
+    if counts.get("fixed", 0):
+        print(f"hint: {counts.get('fixed', 0)} recorded failures pass now: `python -m hullstress replay "
+              f"{args.corpus} --accept` records it (the entries stay, as passing regression cases)", file=sys.stderr)
     if regress_entries:
         return 1
     if result.errors:

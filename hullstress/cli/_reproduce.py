@@ -227,5 +227,18 @@ def _save_to_corpus(directory: str, folder: Path, meta: dict[str, Any], points: 
         found_by=f"hullstress reproduce {folder.resolve()}", original_size=meta.get("original_size"),
         original_case_id=original.get("case_id"), params=original.get("params"), seed=original.get("seed"),
         size=original.get("size"))
-    [(path, written)] = add_to_corpus(directory, [(case, provenance)], workers=1, timeout=timeout)
+    from ..corpus.store import held_groups
+    from ..triage.signature import Signature
+
+    group = Signature.from_dict(meta["signature"])  # the folder's failure group: the entry holds it
+    from ..errors import CorpusError, UsageError
+
+    try:
+        held = held_groups(directory)
+    except CorpusError as exc:
+        raise UsageError(f"--save-corpus: {exc}") from None
+    if group in held and held[group].path is not None:
+        return held[group].path, False
+    [(path, written)] = add_to_corpus(directory, [(case, provenance, group)], workers=1, timeout=timeout,
+                                      overwrite=True)
     return path, written

@@ -123,9 +123,11 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
                    help="also write JUnit XML: a test case per algorithm config x family, failures carrying the minimal case")
     p.add_argument("--baseline", default=None, metavar="RUN_OR_CORPUS",
                    help="an earlier run (folder, results.csv or .parquet) or a corpus folder: exit 1 only for "
-                   "failure groups new against it; the report lists new, still-failing and fixed groups")
+                   "failure groups new against it; the terminal and the report list new, still-failing, fixed and "
+                   "not-reached groups.  The folder --save-corpus writes may not exist yet (the first night)")
     p.add_argument("--save-corpus", default=None, metavar="DIR",
-                   help="add the minimised new failures (one per failing algorithm x family) to this corpus folder")
+                   help="add one entry (its minimal case) per failure group this corpus folder does not hold yet; "
+                   "created when missing")
     p.add_argument("--quiet", action="store_true", help="print only the report path and the exit summary line")
     p.set_defaults(handler=run_command)
 
@@ -215,13 +217,15 @@ def _print_summary(the_run: Any, args: argparse.Namespace, *, quiet: bool) -> No
     if triage is not None and triage.groups:
         tail = f"; {len(triage.groups)} failure groups, {len(triage.causes)} causes"
     print(f"{len(table)}/{the_run.plan.n_calls} calls in {wall:.1f} s: {line}{tail}{state}")
+    if the_run.baseline_note:
+        print(f"note: {the_run.baseline_note}", file=sys.stderr)
     if the_run.comparison is not None:
-        states = the_run.comparison["state"].value_counts()
-        print(f"against baseline {args.baseline}: " + ", ".join(
-            f"{states.get(k, 0)} {k} failure groups" for k in ("new", "still-failing", "fixed")))
+        _print_comparison(the_run.comparison, args.baseline)
     if args.save_corpus and not the_run.interrupted and not the_run.environment_errors:
-        written = sum(1 for _, w in the_run.corpus_saved if w)
-        print(f"corpus: {written} new entries in {args.save_corpus} ({len(the_run.corpus_saved) - written} already there)")
+        written = [sig for _, w, sig in the_run.corpus_saved if w]
+        held = len(triage.groups) - len(the_run.corpus_saved) if triage is not None else 0
+        print(f"corpus: {len(written)} new entries in {args.save_corpus} (one per failure group it did not hold; "
+              f"{max(held, 0)} groups already held)")
     for hint in the_run.report.hints if the_run.report is not None else ():
         print(f"hint: {hint}", file=sys.stderr)
     print(f"report: {the_run.run_dir}")
@@ -237,6 +241,18 @@ def _print_summary(the_run: Any, args: argparse.Namespace, *, quiet: bool) -> No
     elif status == EXIT_NO_WORK:
         print(f"hullstress: no work done: not one of {the_run.plan.n_calls} planned calls ran"
               + (f" within --time-budget {args.time_budget:g} s" if args.time_budget else ""), file=sys.stderr)
+
+
+def _print_comparison(comparison: Any, baseline: str) -> None:
+    """The counts per state, then every new, fixed and not-reached group by name (what a nightly log is read for)."""
+    from ..corpus.baseline import STATES
+
+    states = comparison["state"].value_counts()
+    print(f"against baseline {baseline}: " + ", ".join(f"{int(states.get(k, 0))} {k}" for k in STATES)
+          + " failure groups")
+    for state in ("new", "fixed", "not-reached"):
+        for label in comparison.loc[comparison["state"] == state, "label"]:
+            print(f"  {state}: {label}")
 
 
 def _rule(title: str, width: int = 79) -> str:

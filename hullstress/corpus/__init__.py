@@ -1,11 +1,16 @@
 """The regression corpus: one JSON file per minimised case, replayed against every config.
 
-* :mod:`.store` -- the file format, loading, de-duplicated atomic saving.
-* :mod:`.save` -- ``run --save-corpus``: a run's minimised failures become entries.
+One entry per failure group: the group is a
+:class:`~hullstress.triage.signature.Signature`, the one identity of "the
+same failure" that triage, the report, ``--baseline`` and ``replay`` share.
+
+* :mod:`.store` -- the file format, loading, atomic saving, the groups a corpus holds.
+* :mod:`.save` -- ``run --save-corpus``: each failure group the corpus does not
+  hold yet becomes an entry (its minimal case).
 * :mod:`.replay` -- ``replay``: every entry against every config, classified
-  against the recorded expectations.
-* :mod:`.baseline` -- ``run --baseline``: which failure groups are new
-  against an earlier run or a corpus.
+  against the recorded verdicts.
+* :mod:`.baseline` -- ``run --baseline``: which failure groups are new, still
+  failing, fixed or not reached against an earlier run or a corpus.
 
 The submodules are imported on first use: ``store`` needs NumPy and pandas,
 the others the runner too.
@@ -25,7 +30,7 @@ __all__ = [
     "save_entry",
     "replay_corpus",
     "add_to_corpus",
-    "save_minimised_failures",
+    "save_new_groups",
     "load_baseline",
     "compare_with_baseline",
 ]
@@ -37,7 +42,7 @@ DEFAULT_CORPUS = Path("tests") / "corpus"
 _HOMES = {
     "CorpusEntry": "store", "iter_corpus": "store", "load_entry": "store",
     "save_entry": "store", "replay_corpus": "replay", "add_to_corpus": "replay",
-    "save_minimised_failures": "save", "load_baseline": "baseline", "compare_with_baseline": "baseline",
+    "save_new_groups": "save", "load_baseline": "baseline", "compare_with_baseline": "baseline",
 }
 
 

@@ -1,16 +1,19 @@
-"""``run --save-corpus DIR``: minimised failures of a run become regression-corpus entries.
+"""``run --save-corpus DIR``: every failure group the corpus does not hold yet becomes an entry.
 
-One entry per failing (algorithm, family) pair, the smallest minimised case
-among that pair's failure groups; with ``--baseline`` only pairs with a group
-new against the baseline.  Each entry records the verdict signature of every
-algorithm config on its points (see :func:`hullstress.corpus.replay.add_to_corpus`),
-so replay notices when any of them changes.
+One entry per failure group (:class:`~hullstress.triage.signature.Signature`,
+the one identity of "the same failure"): its minimal case from triage, or the
+group's smallest failing case when triage kept no record of it (beyond the
+cap on failure folders).  A group the corpus holds as failing is not saved
+again; a group it recorded as fixed that fails again replaces its entry (the
+change shows in review).  Each entry records the verdict of every algorithm
+config on its points (see :func:`hullstress.corpus.replay.add_to_corpus`), so
+replay notices when any of them changes.
 """
 
 from __future__ import annotations
 
 import os
-from collections.abc import Collection, Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -18,38 +21,24 @@ import numpy as np
 
 from ..case import Case
 from ..options import DEFAULTS
+from ..triage.signature import Signature
 from .replay import add_to_corpus
-from .store import ABNORMAL_STATUSES, provenance_for, with_stage
+from .store import held_groups, provenance_for
 
-__all__ = ["corpus_signature", "select_for_corpus", "save_minimised_failures"]
-
-
-def corpus_signature(check: str, stage: str = "algorithm") -> str:
-    """A triage signature's check as a corpus signature (``containment`` -> ``fail:containment``)."""
-    return with_stage(check if check in ABNORMAL_STATUSES else f"fail:{check}", stage)
+__all__ = ["select_for_corpus", "minimised_entry", "save_new_groups"]
 
 
-def select_for_corpus(records: Sequence[Any], new_groups: Collection[tuple[str, ...]] | None = None) -> list[Any]:
-    """The smallest minimised record per (algorithm, family), optionally only among new groups.
+def select_for_corpus(groups: Sequence[Any], held: Mapping[Signature, Any] | set[Signature]) -> list[Any]:
+    """The failure groups of a run that ``held`` (the corpus's failing groups) lacks, in the run's order.
 
-    Parameters
-    ----------
-    records : sequence of TriageRecord
-        From :func:`hullstress.triage.triage_failures`.
-    new_groups : collection of (algorithm, sphere, eps, family, signature), optional
-        Restrict to these failure groups (the ``new`` ones against a baseline).
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> a, b = Signature("a", "off", "n/a", status="crash"), Signature("b", "off", "n/a", status="crash")
+    >>> [g.signature.algorithm for g in select_for_corpus([SimpleNamespace(signature=a), SimpleNamespace(signature=b)], {a})]
+    ['b']
     """
-    best: dict[tuple[str, str], Any] = {}
-    for rec in records:
-        sig = rec.signature
-        families = [f for f, _ in rec.families]
-        if new_groups is not None and not any(
-                (sig.algorithm, sig.sphere, sig.eps, f, corpus_signature(sig.check, sig.stage)) in new_groups for f in families):
-            continue
-        key = (sig.algorithm, families[0])
-        if key not in best or rec.case.n_points < best[key].case.n_points:
-            best[key] = rec
-    return [best[k] for k in sorted(best)]
+    return [g for g in groups if g.signature not in held]
 
 
 def minimised_entry(
@@ -95,37 +84,57 @@ def minimised_entry(
     return case, provenance
 
 
-def save_minimised_failures(
+def save_new_groups(
     directory: str | os.PathLike[str],
+    groups: Sequence[Any],
     records: Sequence[Any],
     cases: Sequence[Case],
     *,
-    new_groups: Collection[tuple[str, ...]] | None = None,
     workers: int = 0,
     timeout: float = DEFAULTS.call_timeout,
     found_by: str = "hullstress run",
-) -> list[tuple[Path, bool]]:
-    """Add the selected minimised failures to the corpus in ``directory``.
+) -> list[tuple[Path, bool, Signature]]:
+    """Add one entry per failure group of ``groups`` that the corpus in ``directory`` does not hold.
+
+    Parameters
+    ----------
+    directory : path
+        The corpus folder (created when missing).
+    groups : sequence of FailureGroup
+        Every failure group of the run (:func:`hullstress.triage.group_failures`).
+    records : sequence of TriageRecord
+        Triage's records: a group with one is saved as its minimal case.
+    cases : sequence of Case
+        The run's cases (a group without a record is saved as its smallest failing case).
 
     Returns
     -------
-    list of (path, written)
-        ``written`` is False for cases the corpus already held (same content hash).
+    list of (path, written, group)
+        ``written`` is False when the entry was there already.
     """
+    held = held_groups(directory)
+    minimal = {rec.signature: rec for rec in records}
     by_id = {c.case_id: c for c in cases}
-    items: list[tuple[Case, dict]] = []
-    for rec in select_for_corpus(records, new_groups):
-        group = getattr(rec, "group", None)
-        original = by_id.get(group.smallest_case_id) if group is not None else None
-        points = np.asarray(rec.case.points, dtype=np.float64)
+    items: list[tuple[Case, dict, Signature]] = []
+    for group in select_for_corpus(groups, held):
+        original = by_id.get(group.smallest_case_id)
+        rec = minimal.get(group.signature)
+        if rec is None and original is None:
+            continue  # no points for it at all (cannot happen for a sweep's own groups)
+        points = np.asarray(rec.case.points if rec is not None else original.points, dtype=np.float64)  # type: ignore[union-attr]
         dim = original.dim if original is not None else (points.shape[1] if points.ndim == 2 else 3)
-        items.append(minimised_entry(
-            points, dim, rec.families[0][0], signature=rec.signature.slug, found_by=found_by,
-            original_size=rec.shrink.original_size,
+        family = group.families[0][0] if group.families else (original.family if original is not None else "corpus")
+        case, provenance = minimised_entry(
+            points, dim, family, signature=group.signature.slug, found_by=found_by,
+            original_size=original.n_points if original is not None else None,
             original_case_id=original.case_id if original is not None else None,
             params=original.params if original is not None else None,
             seed=original.seed if original is not None else None,
-            size=original.size if original is not None else None))
+            size=original.size if original is not None else None)
+        if rec is None or not rec.shrink.reproduced:
+            provenance["minimised"] = False
+        items.append((case, provenance, group.signature))
     if not items:
         return []
-    return add_to_corpus(directory, items, workers=workers, timeout=timeout)
+    saved = add_to_corpus(directory, items, workers=workers, timeout=timeout, overwrite=True)
+    return [(path, written, sig) for (path, written), (_, _, sig) in zip(saved, items)]

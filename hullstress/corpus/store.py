@@ -1,30 +1,43 @@
-"""The regression corpus: one JSON file per case, exact floats, provenance and expectations.
+"""The regression corpus: one JSON file per failure group, its minimal case with exact floats.
 
-File format (``format_version`` 1)::
+File format (``format_version`` 2)::
 
     {
       "format": "hullstress-corpus",
-      "format_version": 1,
-      "id": "<first 16 hex digits of the content hash>",
+      "format_version": 2,
+      "id": "<the group's Signature.group_id; or the content hash's first 16 hex digits>",
+      "group": {"algorithm": ..., "sphere": ..., "eps": ..., "stage": ..., "status": ...,
+                "checks": ..., "severity": ..., "error": ..., "frame": ...},   # or null
+      "label": "<the group's Signature.label>",
+      "state": "failing" | "fixed",
       "content_hash": "<sha256 of the exact point bytes, shape and dtype>",
       "dim": 3,
       "shape": [n, 3],
       "points": ["0.1", "-0.0", "nan", "inf", "5e-324", ...],   # row-major, repr(float)
       "provenance": {"family": ..., "params": {...}, "seed": ..., "source": ...,
                      "found_by": "...", "found_at": "...", "original_size": ...},
-      "expectations": {"<config label>": "<signature>", ...}
+      "expectations": {"<config label>": "<verdict>", ...}
     }
+
+The corpus holds **one entry per failure group**: ``group`` is the
+:class:`~hullstress.triage.signature.Signature` the entry was saved for (the
+one identity of "the same failure", see that module) and the file is named
+``<group_id>.json``, so a group cannot be saved twice.  ``state`` is
+``failing`` until ``replay --accept`` records that the group's config no
+longer fails that way on the entry (``fixed``); a fixed entry stays as a
+passing regression case.  An entry without a group (``null``) is a plain
+regression case named after its content hash.
 
 Points are stored as ``repr(float)`` strings: the shortest decimal that reads
 back to the same double, so the round trip is bit for bit, and JSON's lack of
 NaN and infinities is no obstacle.  Bad-input cases of other shapes keep
 their shape.
 
-An expectation is a verdict signature: ``pass``, ``rejected``, ``error``,
-``timeout``, ``crash``, ``fail:<first failed check>`` or ``fail:contract``.
-Files are named ``<id>.json``; a case whose content hash is already in the
-corpus is not added twice.  Writes go through a temporary file and an atomic
-rename, so concurrent runs cannot leave a half-written entry.
+An expectation is a call's verdict (:func:`~hullstress.triage.signature.verdict_of`):
+``pass``, ``rejected``, or the failure's signature without its config
+(``fail containment (gross)``, ``error ZeroDivisionError at m:3 in f``).
+Writes go through a temporary file and an atomic rename, so concurrent runs
+cannot leave a half-written entry.
 """
 
 from __future__ import annotations
@@ -43,80 +56,67 @@ from . import DEFAULT_CORPUS
 from ..case import Case
 from ..errors import CorpusError
 from ..files import atomic_write_text
-from ..records import Stage, Status
-from ..results import ResultRow
-from ..triage.signature import failed_check, stage_of
-
-#: Statuses whose corpus signature is the status itself (no failed check to name).
-ABNORMAL_STATUSES = frozenset({Status.ERROR, Status.TIMEOUT, Status.CRASH})
+from ..triage.signature import Signature
 
 __all__ = [
     "FORMAT",
     "FORMAT_VERSION",
+    "FAILING",
+    "FIXED",
     "CorpusEntry",
-    "row_signature",
-    "is_failure_signature",
-    "with_stage",
     "load_entry",
     "save_entry",
     "iter_corpus",
+    "held_groups",
     "DEFAULT_CORPUS",
 ]
 
 FORMAT = "hullstress-corpus"
-FORMAT_VERSION = 1
-
-
-def row_signature(row: ResultRow | Mapping[str, Any]) -> str:
-    """The verdict signature of a result row (what a corpus expectation records).
-
-    ``pass`` / ``rejected`` / ``error`` / ``timeout`` / ``crash``, or for a
-    ``fail`` the failed check as triage names it: ``fail:containment``,
-    ``fail:contract``, ``fail:invalid-input`` ...; prefixed by the stage when
-    that is not the algorithm (``preprocess/fail:containment``, ``check/error``).
-    """
-    values = row.values if isinstance(row, ResultRow) else row
-    status = str(values["status"])
-    if status != Status.FAIL:
-        signature = status
-    else:
-        signature = "fail:" + str(failed_check(status, values.get("reason"), values.get("failed_checks")))
-    return with_stage(signature, values.get("stage"))
-
-
-def with_stage(signature: str, stage: Any) -> str:
-    """``signature`` prefixed with ``stage/`` unless the stage is the algorithm's (or unknown).
-
-    Examples
-    --------
-    >>> with_stage("fail:containment", "preprocess"), with_stage("error", None)
-    ('preprocess/fail:containment', 'error')
-    """
-    text = stage_of(stage)
-    return signature if text == Stage.ALGORITHM else f"{text}/{signature}"
-
-
-def is_failure_signature(signature: str) -> bool:
-    """True for signatures that count as failures (fail:*, error, timeout, crash, at any stage)."""
-    signature = signature.split("/", 1)[-1]
-    return signature.startswith(Status.FAIL.value) or signature in ABNORMAL_STATUSES
+FORMAT_VERSION = 2
+#: An entry's ``state``: its group's config still fails that way on it (as far as the corpus knows) ...
+FAILING = "failing"
+#: ... or ``replay --accept`` recorded that it no longer does.
+FIXED = "fixed"
+_STATES = (FAILING, FIXED)
 
 
 @dataclass(frozen=True)
 class CorpusEntry:
-    """One corpus case: the case itself plus the recorded expectation per config label."""
+    """One corpus entry: a failure group's minimal case plus the recorded verdict per config label.
+
+    Attributes
+    ----------
+    case : Case
+    expectations : mapping of str to str
+        Config label -> verdict (:func:`~hullstress.triage.signature.verdict_of`).
+    provenance : mapping
+    path : Path or None
+        The file it was read from.
+    group : Signature or None
+        The failure group the entry holds (None: a plain regression case).
+    state : {"failing", "fixed"}
+    """
 
     case: Case
     expectations: Mapping[str, str] = field(default_factory=dict)
     provenance: Mapping[str, Any] = field(default_factory=dict)
     path: Path | None = None
+    group: Signature | None = None
+    state: str = FAILING
 
     @property
     def entry_id(self) -> str:
-        return self.case.content_hash[:16]
+        """The group's id, or for a plain case the first 16 hex digits of its content hash."""
+        return self.group.group_id if self.group is not None else self.case.content_hash[:16]
 
-    def with_expectations(self, expectations: Mapping[str, str]) -> "CorpusEntry":
-        return CorpusEntry(self.case, dict(sorted(expectations.items())), self.provenance, self.path)
+    @property
+    def holds(self) -> Signature | None:
+        """The group this entry holds as still failing (None when it is fixed or has no group)."""
+        return self.group if self.state == FAILING else None
+
+    def with_expectations(self, expectations: Mapping[str, str], state: str | None = None) -> "CorpusEntry":
+        return CorpusEntry(self.case, dict(sorted(expectations.items())), self.provenance, self.path, self.group,
+                           state or self.state)
 
     def to_json(self) -> dict[str, Any]:
         pts = self.case.points
@@ -124,6 +124,9 @@ class CorpusEntry:
             "format": FORMAT,
             "format_version": FORMAT_VERSION,
             "id": self.entry_id,
+            "group": self.group.as_dict() if self.group is not None else None,
+            "label": self.group.label if self.group is not None else None,
+            "state": self.state,
             "content_hash": self.case.content_hash,
             "dim": self.case.dim,
             "shape": list(pts.shape),
@@ -159,6 +162,9 @@ def load_entry(path: str | os.PathLike[str]) -> CorpusEntry:
     if not isinstance(data, dict) or data.get("format") != FORMAT:
         raise _fail(path, f"not a hullstress corpus file (format is {data.get('format') if isinstance(data, dict) else type(data).__name__!r})")
     version = data.get("format_version")
+    if version == 1:
+        raise _fail(path, "format version 1 (one entry per algorithm x family) predates failure groups; rebuild "
+                    "the corpus with `python -m hullstress run ... --save-corpus DIR` into an empty folder")
     if version != FORMAT_VERSION:
         raise _fail(path, f"unknown format version {version!r}; this hullstress reads version {FORMAT_VERSION}")
     try:
@@ -168,6 +174,10 @@ def load_entry(path: str | os.PathLike[str]) -> CorpusEntry:
         dim = int(data["dim"])
         prov = dict(data.get("provenance") or {})
         expectations = {str(k): str(v) for k, v in (data.get("expectations") or {}).items()}
+        group = Signature.from_dict(data["group"]) if data.get("group") else None
+        state = str(data.get("state") or FAILING)
+        if state not in _STATES:
+            raise ValueError(f"state must be one of {', '.join(_STATES)}, got {state!r}")
     except (KeyError, TypeError, ValueError) as exc:
         raise _fail(path, f"malformed entry: {type(exc).__name__}: {exc}") from None
     case = Case(
@@ -177,7 +187,10 @@ def load_entry(path: str | os.PathLike[str]) -> CorpusEntry:
     )
     if data.get("content_hash") and data["content_hash"] != case.content_hash:
         raise _fail(path, "points do not match the recorded content hash (edited or corrupted)")
-    return CorpusEntry(case=case, expectations=expectations, provenance=prov, path=path)
+    entry = CorpusEntry(case=case, expectations=expectations, provenance=prov, path=path, group=group, state=state)
+    if data.get("id") and data["id"] != entry.entry_id:
+        raise _fail(path, f"id {data['id']!r} does not match its group (or points): edited by hand?")
+    return entry
 
 
 def save_entry(directory: str | os.PathLike[str], entry: CorpusEntry, *, overwrite: bool = False) -> tuple[Path, bool]:
@@ -187,8 +200,8 @@ def save_entry(directory: str | os.PathLike[str], entry: CorpusEntry, *, overwri
     -------
     path : Path
     written : bool
-        False when an entry with the same content hash already existed and
-        ``overwrite`` is False (de-duplication by content hash).
+        False when an entry with the same id (the same failure group, or for a
+        plain case the same points) already existed and ``overwrite`` is False.
     """
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
@@ -216,6 +229,26 @@ def iter_corpus(directory: str | os.PathLike[str]) -> Iterator[tuple[Path, Corpu
             yield path, load_entry(path)
         except CorpusError as exc:
             yield path, exc
+
+
+def held_groups(directory: str | os.PathLike[str]) -> dict[Signature, CorpusEntry]:
+    """The failure groups a corpus holds as failing, each with its entry; ``{}`` for a missing folder.
+
+    Raises
+    ------
+    CorpusError
+        The first unreadable file, naming it: a group it may hold must not
+        silently count as new.
+    """
+    if not Path(directory).exists():
+        return {}
+    held: dict[Signature, CorpusEntry] = {}
+    for _, item in iter_corpus(directory):
+        if isinstance(item, CorpusError):
+            raise item
+        if item.holds is not None:
+            held[item.holds] = item
+    return held
 
 
 def provenance_for(case: Case, *, found_by: str, original_size: int | None = None, extra: Mapping[str, Any] | None = None) -> dict[str, Any]:

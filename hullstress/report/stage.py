@@ -395,11 +395,13 @@ def _write_baseline_section(run_dir: Path, comparison: pd.DataFrame, baseline: s
     """``baseline.csv`` and a short section of ``summary.md``: counts, and the first new groups."""
     atomic_write_text(run_dir / "baseline.csv", comparison.to_csv(index=False))
     summary = run_dir / "summary.md"
+    from ..corpus.baseline import STATES
+
     counts = comparison["state"].value_counts()
     parts = [summary.read_text(encoding="utf-8").rstrip("\n"), "", f"## Against the baseline `{baseline}`", "",
-             ", ".join(f"{int(counts.get(s, 0))} {s}" for s in ("new", "still-failing", "fixed"))
+             ", ".join(f"{int(counts.get(s, 0))} {s}" for s in STATES)
              + " failure groups; every one in [baseline.csv](baseline.csv).", ""]
-    new = comparison[comparison["state"] == "new"].drop(columns="state")
+    new = comparison.loc[comparison["state"] == "new", ["label", "failures", "families"]]
     if len(new):
         parts += ["New:", "", _markdown(new.head(10)).rstrip("\n")]
         if len(new) > 10:

@@ -23,6 +23,20 @@ and the report lists the families a failure group covers instead.  Failure
 groups are signatures (:mod:`.grouping`), and the shrinker keeps a group's
 signature exactly (:mod:`.shrink`).  ``pass`` and ``rejected`` rows have no
 signature.
+
+The identity of "the same failure"
+----------------------------------
+This module is the only home of that identity.  Triage groups by it, the
+report names groups by it, the regression corpus keeps one entry per
+signature (:attr:`Signature.group_id` names the entry's file), ``run
+--baseline`` compares a run's signatures with a baseline's, ``replay``
+compares each call's :func:`verdict_of` with the one recorded, and ``run
+--last-failed`` / ``--failed-first`` take the calls that have a signature.
+Every field is a function of the row alone, so the same code and seed give
+the same signatures whatever ``--workers`` says.  Two things can still move
+a signature: an edit that moves the line an exception is raised from (the
+frame names it, as Hypothesis tells errors apart), and a call that runs close
+to its timeout on a loaded machine (``timeout`` is a status of its own).
 """
 
 from __future__ import annotations
@@ -37,8 +51,8 @@ from ..config import AlgorithmConfig
 from ..records import CONTRACT_REASON, FAILED_STATUSES, METHOD_REASON, NO_EPS, Stage, Status
 from ..verdict import CHECKS, FAILED_CHECKS
 
-__all__ = ["Signature", "failed_check", "failed_checks_of", "signature_of", "stage_of", "FAILED_STATUSES",
-           "FAILED_CHECKS", "DEFAULT_STAGE"]
+__all__ = ["Signature", "failed_check", "failed_checks_of", "signature_of", "stage_of", "verdict_of",
+           "is_failure_verdict", "FAILED_STATUSES", "FAILED_CHECKS", "DEFAULT_STAGE"]
 
 #: The stage of a row that does not say (tables written before the ``stage`` column).
 DEFAULT_STAGE = Stage.ALGORITHM.value
@@ -246,6 +260,19 @@ class Signature:
         return slug
 
     @property
+    def group_id(self) -> str:
+        """16 hex digits naming the failure group: a hash of :attr:`key`, stable across runs and machines.
+
+        The regression corpus names an entry's file after it, so one group has one entry.
+
+        Examples
+        --------
+        >>> Signature("a", "off", "n/a", status="crash", error="SIGSEGV").group_id
+        '38b07233d42ddd4e'
+        """
+        return hashlib.sha256("\x1f".join(self.key).encode()).hexdigest()[:16]
+
+    @property
     def key(self) -> tuple[str, ...]:
         """The fields as a tuple (stable order; what the slug's hash covers)."""
         return (self.algorithm, self.sphere, self.eps, self.stage, self.status, self.checks, self.severity,
@@ -287,3 +314,37 @@ def signature_of(row: Mapping[str, Any] | Any) -> Signature | None:
         stage=stage_of(get("stage")), status=status, checks=checks, severity=severity,
         error=_error_kind(status, reason), frame=_text(get("error_frame")) if status == Status.ERROR else "",
     )
+
+
+#: Verdicts of calls that did not fail (a ``fail`` verdict is its :attr:`Signature.what`).
+PASSING_VERDICTS = (Status.PASS.value, Status.REJECTED.value)
+
+
+def verdict_of(row: Mapping[str, Any] | Any) -> str:
+    """One call's verdict as the corpus records it: ``pass``, ``rejected``, or its signature's :attr:`~Signature.what`.
+
+    The config is left out (an expectation is keyed by the config's label), so
+    two calls of one config have the same verdict exactly when they have the
+    same :class:`Signature`.
+
+    Examples
+    --------
+    >>> verdict_of({"algorithm": "a", "sphere": "off", "eps": "n/a", "status": "pass"})
+    'pass'
+    >>> verdict_of({"algorithm": "a", "sphere": "off", "eps": "n/a", "status": "fail",
+    ...             "failed_checks": "containment", "severity": "gross"})
+    'fail containment (gross)'
+    """
+    sig = signature_of(row)
+    return sig.what if sig is not None else _text(row.get("status"))
+
+
+def is_failure_verdict(verdict: str | None) -> bool:
+    """True for a recorded verdict that is a failure (anything but ``pass``, ``rejected`` or nothing).
+
+    Examples
+    --------
+    >>> is_failure_verdict("fail containment (gross)"), is_failure_verdict("rejected"), is_failure_verdict(None)
+    (True, False, False)
+    """
+    return bool(verdict) and verdict not in PASSING_VERDICTS
