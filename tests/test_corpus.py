@@ -258,3 +258,19 @@ def test_replay_of_recorded_configs_ignores_algorithms_registered_later(tmp_path
     assert (everything.table["outcome"] == "new-failure").any()
     assert list(recorded_only.table["config"]) == [recorded.label]
     assert list(recorded_only.table["outcome"]) == ["ok"]
+
+
+def test_two_groups_with_one_minimal_case_are_two_entries_and_both_replay(tmp_path):
+    """Two configs' groups may shrink to the same points: one entry each, each replayed and classified."""
+    from hullstress.config import AlgorithmConfig
+    from hullstress.corpus.replay import replay_corpus
+
+    case = Case.from_points([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [0.2, 0.2]], family="test")
+    scaled, fixed = AlgorithmConfig("monotone-chain", "off", "scaled"), AlgorithmConfig("monotone-chain", "off", "fixed")
+    for config in (scaled, fixed):
+        group = Signature(config.algorithm, config.sphere, config.eps, status="crash", error="SIGSEGV")
+        save_entry(tmp_path, CorpusEntry(case=case, expectations={config.label: group.what}, group=group))
+    assert len(list(tmp_path.glob("*.json"))) == 2
+    result = replay_corpus(tmp_path, workers=0, recorded_only=True)
+    assert sorted(zip(result.table["config"], result.table["outcome"])) == [(fixed.label, "fixed"), (scaled.label, "fixed")]
+    assert len(result.per_entry()) == 2

@@ -101,9 +101,16 @@ def test_baseline_run_fails_only_for_new_groups(saved_corpus, tmp_path):
     plugin, corpus = saved_corpus
     args = ["run", "--plugin", str(plugin), "--algorithm", "planted-2d", "--generator", "uniform", "--sphere", "off",
             "--sizes", "40", "--out", str(tmp_path / "out2"), "--workers", "1", "--quiet", "--no-shrink"]
-    known = cli(*args, "--baseline", str(corpus), cwd=tmp_path)
+    # Saved with --workers 1, compared in-process: the identity does not depend on the worker count.
+    known = cli(*[a if a != "1" else "0" for a in args], "--baseline", str(corpus), cwd=tmp_path)
     assert known.returncode == 0, known.stdout + known.stderr
     assert "0 new" in known.stdout and "1 still-failing" in known.stdout
+    # The bug fixed, but a time budget lets only each family's smallest case run: "not reached", never "fixed".
+    _write_plugin(plugin, "fixed")
+    budget = cli(*[a if a != "40" else "5,40" for a in args], "--baseline", str(corpus), "--time-budget", "0.001",
+                 cwd=tmp_path)
+    assert budget.returncode == 0, budget.stdout + budget.stderr
+    assert "0 fixed, 1 not-reached" in budget.stdout and "  not-reached: planted-2d" in budget.stdout
     _write_plugin(plugin, "raise")
     new = cli(*args, "--baseline", str(corpus), cwd=tmp_path)
     assert new.returncode == 1 and "1 new" in new.stdout

@@ -124,15 +124,24 @@ def replay_entries(
     """
     specs = [get_algorithm(n) for n in algorithm_names] if algorithm_names else algorithms()
     configs_by_dim = {d: expand_configs([s for s in specs if s.dim == d]) for d in (2, 3)}
-    tasks = [Task(index=i, case=e.case, configs=_configs_for(e, configs_by_dim, recorded_only)) for i, e in enumerate(entries)]
-    tasks = [t for t in tasks if t.configs]
+    # Two groups may share one minimal case (one entry each): each (case, config) runs once, for all of them.
+    wanted: dict[str, dict[str, AlgorithmConfig]] = {}
+    sharing: dict[str, list[CorpusEntry]] = {}
+    cases: dict[str, Case] = {}
+    for e in entries:
+        configs = _configs_for(e, configs_by_dim, recorded_only)
+        if configs:
+            cases.setdefault(e.case.case_id, e.case)
+            sharing.setdefault(e.case.case_id, []).append(e)
+            wanted.setdefault(e.case.case_id, {}).update((c.label, c) for c in configs)
+    tasks = [Task(index=i, case=cases[cid], configs=tuple(wanted[cid].values())) for i, cid in enumerate(cases)]
     rows: list[ResultRow] = []
     execute(tasks, RunnerOptions(workers=workers, timeout=timeout, qhull=True), rows.append)
-    by_case = {e.case.case_id: e for e in entries}
     records = []
     current: dict[str, dict[str, str]] = {}
-    for row in rows:
-        entry = by_case[row["case_id"]]
+    pairs = [(entry, row) for row in rows for entry in sharing[row["case_id"]]
+             if recorded_only is False or row["config"] in entry.expectations]
+    for entry, row in pairs:
         actual = verdict_of(row)
         expected = entry.expectations.get(row["config"])
         current.setdefault(entry.entry_id, {})[row["config"]] = actual

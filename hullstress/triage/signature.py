@@ -118,8 +118,9 @@ def failed_checks_of(status: str, reason: Any = "", failed_checks: Any = "") -> 
 def failed_check(status: str, reason: Any = "", failed_checks: Any = "") -> str | None:
     """One word for how a row failed: its first failed check, or its status; None for pass/rejected.
 
-    This is the short form the regression corpus records (``fail:containment``);
-    a :class:`Signature` keeps every failed check.
+    A short word for display only: the identity of a failure (what the
+    corpus, ``--baseline`` and ``replay`` compare) is the whole
+    :class:`Signature`, which keeps every failed check.
 
     Examples
     --------
