@@ -274,3 +274,13 @@ def test_two_groups_with_one_minimal_case_are_two_entries_and_both_replay(tmp_pa
     result = replay_corpus(tmp_path, workers=0, recorded_only=True)
     assert sorted(zip(result.table["config"], result.table["outcome"])) == [(fixed.label, "fixed"), (scaled.label, "fixed")]
     assert len(result.per_entry()) == 2
+
+
+def test_a_plugin_error_is_the_same_group_wherever_the_plugin_file_lives():
+    """The plug-in's module name hashes the file's absolute path; the identity keeps only the file's stem."""
+    from hullstress.triage.signature import signature_of
+
+    rows = [{**ROW, "status": "error", "reason": "RuntimeError: planted",
+             "error_frame": f"hullstress_plugin_my_hull_{digest}:12 in hull"} for digest in ("0123456789ab", "ba9876543210")]
+    first, second = (signature_of(r) for r in rows)
+    assert first == second and first.frame == "my_hull:12 in hull" and first.group_id == second.group_id

@@ -63,6 +63,22 @@ _INTERNAL_PREFIX = "internal:"
 _UNSAFE = re.compile(r"[^A-Za-z0-9._-]+")
 _SIGNAL = re.compile(r"\((SIG[A-Z0-9]+)\)")
 _EXIT = re.compile(r"exited with code (-?\d+)")
+#: A plug-in file's module name (hullstress.plugins): its stem plus a hash of the file's absolute path.
+_PLUGIN_MODULE = re.compile(r"\bhullstress_plugin_(\w+?)_[0-9a-f]{12}\b")
+
+
+def _frame(value: Any) -> str:
+    """The frame as the identity keeps it: a plug-in's module by its file's stem, not by where the file lives.
+
+    A corpus committed from CI must name the same groups on a laptop where the
+    checkout is somewhere else.
+
+    Examples
+    --------
+    >>> _frame("hullstress_plugin_myhull_0123456789ab:12 in hull")
+    'myhull:12 in hull'
+    """
+    return _PLUGIN_MODULE.sub(r"\1", _text(value))
 
 
 def _text(value: Any) -> str:
@@ -313,7 +329,7 @@ def signature_of(row: Mapping[str, Any] | Any) -> Signature | None:
     return Signature(
         algorithm=_text(get("algorithm")), sphere=_text(get("sphere")), eps=_text(get("eps")),
         stage=stage_of(get("stage")), status=status, checks=checks, severity=severity,
-        error=_error_kind(status, reason), frame=_text(get("error_frame")) if status == Status.ERROR else "",
+        error=_error_kind(status, reason), frame=_frame(get("error_frame")) if status == Status.ERROR else "",
     )
 
 
