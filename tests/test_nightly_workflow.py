@@ -23,6 +23,8 @@ import sys
 import textwrap
 from pathlib import Path
 
+import pytest
+
 WORKFLOW = Path(__file__).resolve().parents[1] / ".github" / "workflows" / "nightly.yml"
 CONFIG = "planted-2d[sphere=off,eps=n/a]"
 
@@ -69,7 +71,7 @@ def workflow_commands(text: str) -> list[list[str]]:
 
 
 def test_the_workflow_is_a_github_workflow_whose_commands_we_find():
-    yaml = __import__("pytest").importorskip("yaml", reason="pip install pyyaml")
+    yaml = pytest.importorskip("yaml", reason="PyYAML parses the workflow file: pip install pyyaml")
     data = yaml.safe_load(WORKFLOW.read_text())
     steps = data["jobs"]["sweep"]["steps"]
     assert any(s.get("id") == "sweep" for s in steps) and True in data  # "on:" reads as True in YAML 1.1
