@@ -284,7 +284,7 @@ def call_algorithm(case: Case, config: AlgorithmConfig) -> CallOutcome:
         # The documented rule for programs: input Qhull's format cannot carry is not given to them.
         refusal = input_refusal(points, case.dim)
         if refusal:
-            return CallOutcome("raised", error=f"NotGiven: {refusal}: not given to the program",
+            return CallOutcome("raised", error=one_line(ValueError(f"{refusal}: not given to the program")),
                                seconds=time.perf_counter() - start, eps_value=eps_value, **given)
     try:
         with warnings.catch_warnings():

@@ -61,24 +61,24 @@ def input_refusal(points: Any, dim: int) -> str:
     Examples
     --------
     >>> input_refusal(np.zeros((0, 3)), 3)
-    "Qhull's input format cannot carry 0 points in 3D (fewer points than dimensions)"
+    "Qhull's input format cannot say 0 points in 3D (it reads the smaller header number as the dimension)"
     >>> input_refusal([[0.0, float("nan")], [1.0, 2.0]], 2)
-    "Qhull's input format cannot carry non-finite coordinates (1 point with nan or inf)"
+    "Qhull's input format has no number for nan or inf (1 point with one)"
     >>> input_refusal([[0.0, 1.0], [1.0, 2.0]], 2)
     ''
     """
     try:
         pts = np.asarray(points, dtype=np.float64)
     except (TypeError, ValueError):
-        return "Qhull's input format cannot carry points that are not numbers"
+        return "Qhull's input format has no number for these coordinates"
     if pts.ndim != 2 or pts.shape[1] != dim:
-        return f"Qhull's input format cannot carry points of shape {pts.shape} as {dim}D points"
+        return f"points of shape {pts.shape} are not {dim}D points"
     if len(pts) < dim:
-        return f"Qhull's input format cannot carry {len(pts)} points in {dim}D (fewer points than dimensions)"
+        return (f"Qhull's input format cannot say {len(pts)} points in {dim}D "
+                "(it reads the smaller header number as the dimension)")
     bad = int((~np.isfinite(pts)).any(axis=1).sum())
     if bad:
-        return (f"Qhull's input format cannot carry non-finite coordinates "
-                f"({bad} point{'' if bad == 1 else 's'} with nan or inf)")
+        return f"Qhull's input format has no number for nan or inf ({bad} point{'' if bad == 1 else 's'} with one)"
     return ""
 
 

@@ -71,7 +71,7 @@ def search_command(args: argparse.Namespace) -> int:
     from ..progress import progress_enabled
     from ..search import Search, SearchOptions
     from ..sweep import SweepOptions
-    from ._run import _print_summary, parse_sizes
+    from ._run import parse_sizes, print_summary
 
     evaluations = args.evaluations
     if evaluations is None:
@@ -94,5 +94,5 @@ def search_command(args: argparse.Namespace) -> int:
     the_run = run(options, echo=echo, progress=progress_enabled(sys.stderr, quiet=args.quiet))
     if not args.quiet:
         print(executor.summary())
-    _print_summary(the_run, args, quiet=args.quiet)
+    print_summary(the_run, args, quiet=args.quiet)
     return the_run.exit_status
