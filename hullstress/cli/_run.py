@@ -207,7 +207,7 @@ def print_summary(the_run: Any, args: argparse.Namespace, *, quiet: bool) -> Non
     if not quiet and triage is not None and triage.causes:
         for title, tag, causes in cause_sections(triage.causes):
             shown = min(TOP_CAUSES, len(causes))
-            print(_rule(f"{title}: top {shown} of {len(causes)} causes"))
+            print(_rule(title.format(shown=shown, total=len(causes))))
             for rank, cause in enumerate(causes[:shown], start=1):
                 print(_cause_line(tag, rank, cause))
                 if cause.slug in folders:
@@ -260,9 +260,9 @@ def print_summary(the_run: Any, args: argparse.Namespace, *, quiet: bool) -> Non
 
 #: The terminal's sections of causes, by the stage that failed: the algorithms' own first.
 CAUSE_SECTIONS = (
-    (Stage.ALGORITHM, "short summary: the algorithms' causes", "CAUSE"),
-    (Stage.PREPROCESS, "the sphere method's causes (stage preprocess)", "METHOD"),
-    (Stage.CHECK, "hullstress's own errors (stage check)", "INTERNAL"),
+    (Stage.ALGORITHM, "short summary: top {shown} of {total} causes in the algorithms", "CAUSE"),
+    (Stage.PREPROCESS, "the sphere method: top {shown} of {total} causes (stage preprocess)", "METHOD"),
+    (Stage.CHECK, "hullstress itself: top {shown} of {total} errors (stage check)", "INTERNAL"),
 )
 
 

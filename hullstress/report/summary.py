@@ -180,7 +180,7 @@ def _state_words(meta: Mapping[str, Any]) -> str:
     words = {
         "crashed": "INCOMPLETE: the code under test crashed the run (no isolation)",
         "running": "INCOMPLETE: the process ended before the sweep did (killed)",
-        "interrupted": f"INCOMPLETE: interrupted ({meta.get('signal') or 'signal'})",
+        "interrupted": f"INCOMPLETE: interrupted ({meta.get('signal') or 'Ctrl-C or SIGTERM'})",
         "environment-failure": "INCOMPLETE: a write was refused",
         "incomplete": "INCOMPLETE: out of time budget",
     }
