@@ -91,16 +91,19 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
     p.add_argument("--seed", type=int, default=0,
                    help="base seed; same seed and arguments give the same table (default 0)")
     p.add_argument("--workers", type=count(minimum=0), default=None, metavar="N",
-                   help="worker processes (default: all cores; 0 runs in this process without isolation)")
+                   help="worker processes (default: all cores; 0 runs in this process without isolation: a crash of "
+                   "the code under test ends the run, and `report RUN_FOLDER` then makes the report of its rows)")
     p.add_argument("--timeout", type=seconds(), default=None, metavar="SECONDS",
                    help="per-call timeout (default: the profile's)")
     p.add_argument("--time-budget", type=seconds(), default=None, metavar="SECONDS",
                    help="stop starting new calls after this long (each family's smallest case always runs); "
                    "the report covers what ran and says what it did not reach (exit status 5 when not one call ran)")
     p.add_argument("--memory-limit", type=mebibytes, default=DEFAULTS.memory_limit_mb, metavar="MB",
-                   help="address-space limit per worker process in MiB; a runaway allocation becomes an "
-                   f"error or crash row, and sizes whose cases would not fit are refused before anything "
-                   f"is generated (default {DEFAULTS.memory_limit_mb:g}; 0 for none)")
+                   help="what the code under test and its check may allocate per worker process, in MiB, beyond "
+                   "the worker's own libraries (RLIMIT_AS); a runaway allocation becomes an error row naming the "
+                   "limit (or a crash row), and sizes whose cases would not fit are refused before anything "
+                   f"is generated (default {DEFAULTS.memory_limit_mb:g}; at least {DEFAULTS.min_memory_limit_mb:g}; "
+                   "0 for none)")
     p.add_argument("--scheduler", default=None, metavar="ADDRESS",
                    help="run on the Dask cluster at this scheduler address (e.g. tcp://host:8786) "
                    "instead of local worker processes; the table is the same as a local run's")
@@ -239,7 +242,7 @@ def print_summary(the_run: Any, args: argparse.Namespace, *, quiet: bool) -> Non
     print(f"report: {the_run.run_dir}")
     status = the_run.exit_status
     if the_run.crash:
-        print(f"the sweep ended {the_run.ended}: {the_run.crash}", file=sys.stderr)
+        print(f"the sweep was cut short ({the_run.ended}): {the_run.crash}", file=sys.stderr)
     untriaged = the_run.n_failed if triage is None or not triage.groups else 0
     if the_run.interrupted:
         from ..report.failures import report_run_command

@@ -50,7 +50,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
     p.add_argument("--timeout", type=seconds(), default=None, metavar="SECONDS",
                    help="per-call timeout (default: the quick profile's)")
     p.add_argument("--memory-limit", type=mebibytes, default=DEFAULTS.memory_limit_mb, metavar="MB",
-                   help=f"address-space limit per worker process in MiB (default {DEFAULTS.memory_limit_mb:g}; 0 for none)")
+                   help="what the code under test may allocate per worker process in MiB, beyond the worker's own "
+                   f"libraries (default {DEFAULTS.memory_limit_mb:g}; at least {DEFAULTS.min_memory_limit_mb:g}; "
+                   "0 for none)")
     add_registration_options(p)
     p.add_argument("--out", default="reports", metavar="DIR", help="where the run folder goes (default: reports)")
     p.add_argument("--no-qhull", action="store_true", help="skip the Qhull agreement check")
