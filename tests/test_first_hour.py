@@ -312,8 +312,13 @@ def test_the_terminal_lists_the_algorithms_causes_first_the_sphere_methods_apart
         assert lines[i + 2].strip().startswith("reproduce: ") and lines[i + 2].endswith(
             f"-m hullstress reproduce {(tmp_path / folder).absolute()}"), lines[i:i + 3]
     # Severity with its reason wherever a cause shows it.
-    graded = [lines[i] for i in cause_lines if "(gross" in lines[i] or "(roundoff" in lines[i]]
-    assert graded and all("(gross (" in line or "(roundoff (" in line for line in graded), graded
+    graded = [i for i in cause_lines if "(gross" in lines[i] or "(roundoff" in lines[i]]
+    assert graded and all("(gross (" in lines[i] or "(roundoff (" in lines[i] for i in graded), graded
+    # ... and in what `reproduce` prints of the re-run.
+    again = _hullstress("reproduce", lines[graded[0] + 1].strip(), cwd=tmp_path, env={"HOLD_PHASE": "none"})
+    assert again.returncode == 1, again.stderr
+    (checks,) = [line for line in again.stdout.splitlines() if line.strip().startswith("failed checks:")]
+    assert "(gross (" in checks or "(roundoff (" in checks, checks
 
 
 def test_the_pytest_helper_says_why_a_failure_is_gross():
