@@ -31,6 +31,7 @@ import numpy as np
 
 from hullstress.registry import GeneratorSpec, get_generator
 from hullstress.errors import GeneratorValueError, UnknownNameError, UsageError
+from hullstress.suggest import did_you_mean
 
 __all__ = ["parse_spec", "format_spec", "convert_value", "check_params"]
 
@@ -232,7 +233,8 @@ def parse_spec(text: str, *, validate: bool = True) -> tuple[str, dict[str, Any]
             )
         if key not in spec.defaults:
             raise GeneratorValueError(
-                f"generator spec {text!r}: unknown parameter {key!r}; valid parameters of {name}: {valid}"
+                f"generator spec {text!r}: unknown parameter {key!r}{did_you_mean(key, spec.defaults)}; "
+                f"valid parameters of {name}: {valid}"
             )
         if key in params:
             raise GeneratorValueError(f"generator spec {text!r}: parameter {key!r} given twice")

@@ -167,10 +167,9 @@ class Registry(Generic[T]):
         try:
             return self._items[name]
         except KeyError:
-            valid = ", ".join(sorted(self._items)) or "(none registered)"
-            raise UnknownNameError(
-                f"unknown {self.kind} {name!r}; valid names: {valid}"
-            ) from None
+            from .suggest import unknown_name
+
+            raise UnknownNameError(unknown_name(self.kind, name, self._items)) from None
 
     def names(self) -> list[str]:
         load_builtins()

@@ -158,7 +158,9 @@ _LABEL = re.compile(r"^(?P<algorithm>.+)\[sphere=(?P<sphere>[^,\]]+),eps=(?P<eps
 
 def _choices(value: str, allowed: Sequence[str], option: str) -> tuple[str, ...]:
     if value not in allowed:
-        raise UsageError(f"{option} must be one of {', '.join(allowed)}, got {value!r}")
+        from .suggest import did_you_mean
+
+        raise UsageError(f"{option} must be one of {', '.join(allowed)}, got {value!r}{did_you_mean(value, allowed)}")
     if value == BOTH:
         return tuple(a for a in allowed if a != BOTH)
     return (value,)

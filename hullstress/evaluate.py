@@ -44,7 +44,7 @@ from .case import Case, points_digest
 from .config import NO_EPS, AlgorithmConfig, sphere_duplicate_policy
 from .contract import FaceSet, canonical_output, normalize_output, require_face_size, reverse_orientation
 from .errors import CodeCrashed, ContractViolation, code_frame, one_line
-from .records import CONTRACT_REASON, METHOD_REASON, Sphere, Stage, Status
+from .records import CONTRACT_REASON, METHOD_REASON, Origin, Sphere, Stage, Status
 from .results import ResultRow, make_row
 from .tolerance import tolerance
 from .verdict import Verdict
@@ -278,6 +278,14 @@ def call_algorithm(case: Case, config: AlgorithmConfig) -> CallOutcome:
     eps_value = kwargs.get("eps")
     # What the algorithm was given, when not the case's points: judged against those.
     given = {} if index_map is None else {"given": points, "index_map": index_map}
+    if spec.origin == Origin.EXECUTABLE:
+        from .qhull_format import input_refusal
+
+        # The documented rule for programs: input Qhull's format cannot carry is not given to them.
+        refusal = input_refusal(points, case.dim)
+        if refusal:
+            return CallOutcome("raised", error=one_line(ValueError(f"{refusal}: not given to the program")),
+                               seconds=time.perf_counter() - start, eps_value=eps_value, **given)
     try:
         with warnings.catch_warnings():
             # The code under test's own warnings (overflow in its cross products,

@@ -36,10 +36,16 @@ class Defaults:
     check_timeout_floor : float
         The checker's limit per step in a worker is ``max(this, 10 * call timeout)``.
     memory_limit_mb : float
-        Address-space limit per isolated worker in MiB.  A worker holding
-        Python, NumPy and SciPy maps well under 1 GiB; 4 GiB leaves room for
-        large inputs while letting a runaway allocation fail fast (two workers
-        on a 24 GiB machine can never take it down).
+        What the code under test and its check may allocate in an isolated
+        worker, in MiB, beyond the worker's own address space once its
+        libraries are loaded (about 0.5 GiB of mappings, most never touched):
+        the worker's ``RLIMIT_AS`` is the two together.  4 GiB leaves room for
+        large inputs while letting a runaway allocation fail fast.
+    min_memory_limit_mb : float
+        The smallest ``--memory-limit`` accepted (0, no limit, aside): what a
+        worker needs beyond its libraries to judge the profiles' cases (the
+        quick profile runs without a memory error at this limit); a smaller
+        limit would turn the harness's own work into memory errors.
     max_folders : int
         At most this many failure folders per run (worst groups first).
     shrink_max_calls : int
@@ -55,6 +61,7 @@ class Defaults:
     call_timeout: float = 10.0
     check_timeout_floor: float = 60.0
     memory_limit_mb: float = 4096.0
+    min_memory_limit_mb: float = 64.0
     max_folders: int = 2000
     shrink_max_calls: int = 2000
     case_bytes_per_coordinate: int = 1200
@@ -241,4 +248,7 @@ def get_profile(name: str) -> Profile:
     try:
         return PROFILES[name]
     except KeyError:
-        raise UsageError(f"unknown profile {name!r}; valid profiles: {', '.join(PROFILES)}") from None
+        from .suggest import did_you_mean
+
+        raise UsageError(f"unknown profile {name!r}{did_you_mean(name, PROFILES)}; "
+                         f"valid profiles: {', '.join(PROFILES)}") from None

@@ -63,8 +63,8 @@ if TYPE_CHECKING:  # the report's modules load when the run gets there
     from .report.picture_helper import PictureDrawer
     from .report.stage import FindingsBeside
 
-__all__ = ["RunOptions", "Run", "Interrupted", "Plan", "plan", "run", "EXIT_FOR_SIGNAL", "Executor", "YIELD_NICENESS",
-           "yield_cpu_to_workers"]
+__all__ = ["RunOptions", "Run", "Interrupted", "Plan", "plan", "run", "report_rows", "EXIT_FOR_SIGNAL", "Executor",
+           "YIELD_NICENESS", "yield_cpu_to_workers", "RUNNING"]
 
 #: Exit status after an interrupt, by signal (the shell's 128 + signal number).
 EXIT_FOR_SIGNAL = {signal.SIGINT: int(ExitStatus.SIGINT), signal.SIGTERM: int(ExitStatus.SIGTERM)}
@@ -196,6 +196,11 @@ class Run:
     complete: bool = True
     seconds: dict[str, float] = field(default_factory=dict)
     environment_errors: list[str] = field(default_factory=list)
+    #: How the sweep ended when ``hullstress report`` reports it afterwards (``run.json``'s state then:
+    #: crashed, interrupted, ...); None for a run reported by itself.
+    ended: str | None = None
+    #: ``run.json``'s ``crash``: the first lines of ``crash.log`` when the code under test killed the process.
+    crash: str | None = None
 
     @property
     def interrupted(self) -> bool:
@@ -389,6 +394,7 @@ def run(
     on_row: Callable[[ResultRow], None] | None = None,
     echo: Callable[[str], None] | None = None,
     progress: bool = False,
+    warn: Callable[[str], None] | None = None,
 ) -> Run:
     """Run the whole flow and write the run folder.
 
@@ -401,6 +407,9 @@ def run(
         Receives one line per phase for the terminal.
     progress : bool
         Draw a progress bar on stderr during the sweep.
+    warn : callable, optional
+        Receives the lines the user must see even with ``--quiet`` (the
+        warning of a run without isolation).
 
     Returns
     -------
@@ -441,6 +450,16 @@ def run(
     run_dir = new_run_dir(options.out, _run_name(options))
     say(f"hullstress: {len(the_plan.tasks)} cases x configs = {the_plan.n_calls} calls -> {run_dir}")
     the_run = Run(run_dir=run_dir, plan=the_plan, table=to_frame([]), baseline_note=baseline.note if baseline else "")
+    # run.json at once, state "running": a run killed before its end (a crash without isolation, SIGKILL)
+    # still says what it was, and `hullstress report` rebuilds its cases from the arguments recorded here.
+    _write_tables(the_run, options, started=True)
+    if the_run.environment_errors:
+        return the_run
+    isolated = sweep.runner_options().workers >= 1 or sweep.scheduler is not None
+    if not isolated and warn is not None:
+        from .runner import no_isolation_warning
+
+        warn(no_isolation_warning(run_dir))
     signals = _Signals()
     rows: list[ResultRow] = []
     stream = RowStream(run_dir)
@@ -469,8 +488,11 @@ def run(
         try:
             with signals.raising():
                 if options.executor is None:
+                    from .runner import crash_log
+
                     # The picture drawers warm up on the first core the sweep's tail leaves idle.
-                    result = run_sweep(sweep, on_row=collect, tasks=the_plan.tasks, on_idle=drawer.begin)
+                    with crash_log(run_dir, enabled=not isolated):
+                        result = run_sweep(sweep, on_row=collect, tasks=the_plan.tasks, on_idle=drawer.begin)
                     the_run.table, the_run.stats = result.table, result.stats
                 else:
                     the_run.stats = options.executor(the_plan, collect)
@@ -542,11 +564,94 @@ def run(
     return the_run
 
 
-def _write_tables(the_run: Run, options: RunOptions) -> None:
-    """``results.csv`` (+ Parquet), ``summary.md`` and ``run.json`` as the run stands; a refused write is recorded."""
+def report_rows(
+    run_dir: Path,
+    options: RunOptions,
+    table: pd.DataFrame,
+    the_plan: Plan,
+    *,
+    ended: str,
+    complete: bool = False,
+    crash: str | None = None,
+    sweep_seconds: float = 0.0,
+    echo: Callable[[str], None] | None = None,
+    progress: bool = False,
+) -> Run:
+    """Triage the rows of an existing run folder and write its report there (``hullstress report``).
+
+    The flow of :func:`run` from the sweep's end: the tables, triage, the
+    report; nothing is compared with a baseline nor saved to a corpus.
+
+    Parameters
+    ----------
+    run_dir : Path
+        The run folder (``results.csv`` and the report go there).
+    options : RunOptions
+        The run's options, as its ``run.json`` recorded them.
+    table : DataFrame
+        The rows the run finished (``results.partial.csv`` of a run that died).
+    the_plan : Plan
+        The run's plan, rebuilt from its options: every row's case is in it.
+    ended : str
+        How the sweep ended (``run.json``'s state): ``crashed``, ``interrupted``, ``complete`` ...
+    complete : bool
+        Every planned call ran.
+    crash : str or None
+        What killed the process, from ``crash.log``.
+    sweep_seconds : float
+        The sweep's wall time, when the run recorded it.
+    echo, progress
+        As for :func:`run`.
+
+    Returns
+    -------
+    Run
+        Never interrupted by the run's own signal: a signal now stops this
+        triage (exit status 130/143 then).
+    """
+    from .progress import PhaseProgress
+
+    say = echo or (lambda line: None)
+    the_run = Run(run_dir=Path(run_dir), plan=the_plan, table=sort_table(table, [c.case_id for c in the_plan.cases]),
+                  complete=complete, ended=ended, crash=crash)
+    the_run.seconds["sweep"] = sweep_seconds
+    signals = _Signals()
+    started = time.perf_counter()
+    with signals.installed():
+        _write_tables(the_run, options)
+        if the_run.environment_errors:
+            return the_run
+        say(f"triage: {the_run.n_failed} failed calls of {len(the_run.table)}: grouping by signature, shrinking "
+            "one case per group, merging groups into causes")
+        triage_bar = PhaseProgress("triage", "groups", live=progress, enabled=echo is not None)
+        try:
+            the_run.triage = _triage(the_run, options, signals, triage_bar)
+        finally:
+            triage_bar.close()
+        the_run.seconds["triage"] = time.perf_counter() - started
+        the_run.signal = signals.signum
+        say(f"report: writing {run_dir}")
+        report_bar = PhaseProgress("report", "cause folders", live=progress, enabled=echo is not None)
+        try:
+            _report(the_run, options, signals, started, report_bar)
+        finally:
+            report_bar.close()
+    return the_run
+
+
+def _write_tables(the_run: Run, options: RunOptions, *, started: bool = False) -> None:
+    """``results.csv`` (+ Parquet), ``summary.md`` and ``run.json`` as the run stands; a refused write is recorded.
+
+    With ``started``, only ``run.json`` in the state ``running``, before the sweep.
+    """
     from .report.writer import run_metadata, write_report, write_run_json
 
     the_run.meta = _metadata(the_run, options, run_metadata)
+    if started:
+        the_run.meta["state"] = RUNNING
+        with _noting_refusals(the_run):
+            write_run_json(the_run.run_dir, the_run.meta)
+        return
     refused = len(the_run.environment_errors)
     with _noting_refusals(the_run):
         write_report(the_run.run_dir, the_run.table, the_run.meta)
@@ -626,6 +731,8 @@ def _metadata(the_run: Run, options: RunOptions, run_metadata: Callable[..., dic
                "budget_exhausted": bool(stats.budget_exhausted) if stats else False,
                "runner": stats.as_dict() if stats else None,
                "phase_seconds": {k: round(v, 3) for k, v in the_run.seconds.items()},
+               "cwd": os.getcwd(),
+               **({"crash": the_run.crash} if the_run.crash else {}),
                "not_reached": _not_reached(the_run),
                "triage": None if the_run.triage is None else {
                    "groups": len(the_run.triage.groups), "causes": len(the_run.triage.causes),
@@ -644,8 +751,17 @@ def _not_reached(the_run: Run) -> dict[str, int]:
     return {family: n - int(done.get(family, 0)) for family, n in planned.items() if n > done.get(family, 0)}
 
 
+#: ``run.json``'s state while the run runs: still there afterwards, the process died before its end.
+RUNNING = "running"
+
+
 def _state(the_run: Run) -> str:
-    """``run.json``'s one-word state: interrupted, environment-failure, incomplete (budget) or complete."""
+    """``run.json``'s one-word state: interrupted, environment-failure, incomplete (budget) or complete.
+
+    (``running`` until the sweep ends; ``hullstress report`` records ``crashed`` for a run that died then.)
+    """
+    if the_run.ended is not None:
+        return the_run.ended
     if the_run.interrupted:
         return "interrupted"
     if the_run.environment_errors:

@@ -16,10 +16,32 @@ from types import ModuleType
 
 from .errors import UsageError
 
-__all__ = ["ENTRY_POINT_GROUP", "load_plugin", "load_entry_points"]
+__all__ = ["ENTRY_POINT_GROUP", "load_plugin", "load_entry_points", "shadowing_folder", "shadowed_message"]
 
 #: Installed packages register their algorithms through this entry-point group.
 ENTRY_POINT_GROUP = "hullstress.plugins"
+
+
+def shadowing_folder() -> str | None:
+    """The folder that shadows the installed hullstress package, or None when it is not shadowed.
+
+    A folder named ``hullstress`` without ``__init__.py`` (a clone of the
+    project, say) in the current directory is a namespace package: with an
+    editable install, ``import hullstress`` then finds that folder first, and
+    ``from hullstress import register_algorithm`` fails with "unknown location".
+    The real package has a ``__file__``; a namespace package has none.
+    """
+    package = sys.modules.get("hullstress")
+    if package is None or getattr(package, "__file__", None) is not None:
+        return None
+    paths = [str(p) for p in getattr(package, "__path__", ())]
+    return paths[0] if paths else "."
+
+
+def shadowed_message(folder: str) -> str:
+    """The one line that explains a shadowed package (exit status 2)."""
+    return (f"the folder {str(Path(folder).resolve())!r} is named hullstress and shadows the installed hullstress "
+            "package (Python imports it as an empty namespace package); run from another folder, or rename it")
 
 
 def load_plugin(spec: str) -> ModuleType:
@@ -61,6 +83,7 @@ def load_plugin(spec: str) -> ModuleType:
             module_spec.loader.exec_module(module)
         except Exception as exc:
             del sys.modules[name]
+            _raise_if_shadowed(spec, exc)
             raise UsageError(
                 f"--plugin {spec!r}: import failed: {type(exc).__name__}: {exc}"
             ) from exc
@@ -68,11 +91,20 @@ def load_plugin(spec: str) -> ModuleType:
     try:
         return importlib.import_module(spec)
     except ModuleNotFoundError as exc:
+        _raise_if_shadowed(spec, exc)
         raise UsageError(f"--plugin {spec!r}: no module named {exc.name!r}") from exc
     except Exception as exc:
+        _raise_if_shadowed(spec, exc)
         raise UsageError(
             f"--plugin {spec!r}: import failed: {type(exc).__name__}: {exc}"
         ) from exc
+
+
+def _raise_if_shadowed(spec: str, exc: BaseException) -> None:
+    """A plug-in's ``from hullstress import ...`` failed because a folder shadows the package: say so."""
+    folder = shadowing_folder() if isinstance(exc, ImportError) else None
+    if folder is not None:
+        raise UsageError(f"--plugin {spec!r}: import failed: {shadowed_message(folder)}") from exc
 
 
 def load_entry_points() -> list[str]:

@@ -40,13 +40,46 @@ from .errors import ContractViolation
 from .literals import parse_float
 
 __all__ = ["HULL_FORMATS", "format_points", "parse_hull", "format_i", "format_fx", "chain_edges",
-           "check_qhull_options"]
+           "check_qhull_options", "input_refusal"]
 
 #: Hull output formats a program may write.
 HULL_FORMATS = ("i", "Fx", "off")
 
 #: Characters of an offending line shown in a message.
 _SHOWN = 60
+
+
+def input_refusal(points: Any, dim: int) -> str:
+    """Why Qhull's input format cannot carry ``points`` as ``dim``-D points, or ``""`` when it can.
+
+    The rule for programs (``--exec``): what the format cannot carry is not
+    given to them.  It cannot carry another shape, fewer points than
+    dimensions (no points included: the reader takes the smaller of the two
+    header numbers as the dimension) nor a coordinate that is not a finite
+    number (``rbox`` and Qhull read no ``nan`` or ``inf``).
+
+    Examples
+    --------
+    >>> input_refusal(np.zeros((0, 3)), 3)
+    "Qhull's input format cannot say 0 points in 3D (it reads the smaller header number as the dimension)"
+    >>> input_refusal([[0.0, float("nan")], [1.0, 2.0]], 2)
+    "Qhull's input format has no number for nan or inf (1 point with one)"
+    >>> input_refusal([[0.0, 1.0], [1.0, 2.0]], 2)
+    ''
+    """
+    try:
+        pts = np.asarray(points, dtype=np.float64)
+    except (TypeError, ValueError):
+        return "Qhull's input format has no number for these coordinates"
+    if pts.ndim != 2 or pts.shape[1] != dim:
+        return f"points of shape {pts.shape} are not {dim}D points"
+    if len(pts) < dim:
+        return (f"Qhull's input format cannot say {len(pts)} points in {dim}D "
+                "(it reads the smaller header number as the dimension)")
+    bad = int((~np.isfinite(pts)).any(axis=1).sum())
+    if bad:
+        return f"Qhull's input format has no number for nan or inf ({bad} point{'' if bad == 1 else 's'} with one)"
+    return ""
 
 
 def format_points(points: Any) -> str:

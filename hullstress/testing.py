@@ -180,10 +180,11 @@ def assert_valid_hull(
         _got_line(pts, verdict),
     ]
     if verdict.severity != Severity.NONE:
-        lines.append(
-            f"  worst violation: {verdict.severity}, "
-            f"{verdict.max_violation:.3g} x DISTround ({verdict.distround:.3g})"
-        )
+        from .checker.severity import describe_severity
+
+        shown = describe_severity(verdict.severity, verdict.max_violation, manifoldness=verdict.manifoldness,
+                                  detail=verdict.detail)
+        lines.append(f"  worst violation: {shown}; DISTround {verdict.distround:.3g}")
     lines += _offending_lines(pts, normalized, verdict.offending)
     raise AssertionError("\n".join(lines))
 

@@ -62,7 +62,8 @@ def test_reproduce_prints_the_verdict_the_checks_and_the_witness_with_coordinate
     assert main(["reproduce", str(rec.folder)]) == 1
     out = capsys.readouterr().out
     assert f"cause: {rec.signature.label}" in out
-    assert f"failed checks: {rec.signature.checks} ({rec.signature.severity})" in out
+    # The severity with its reason: "(gross (... x DISTround))".
+    assert f"failed checks: {rec.signature.checks} ({rec.signature.severity} (" in out
     assert "the same failure as recorded: it persists" in out
     witness = out.split("witness:\n", 1)[1]
     index = json.loads((rec.folder / "verdict.json").read_text())["offending"]["containment"][0]

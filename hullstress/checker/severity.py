@@ -25,7 +25,8 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 
-__all__ = ["ROUNDOFF_MULTIPLE", "VOLUME_TOLERANCE_MULTIPLE", "severity", "relative_magnitudes"]
+__all__ = ["ROUNDOFF_MULTIPLE", "VOLUME_TOLERANCE_MULTIPLE", "severity", "relative_magnitudes", "severity_reason",
+           "describe_severity"]
 
 #: Violations up to this many DISTround are ``roundoff``, beyond are ``gross``.
 ROUNDOFF_MULTIPLE = 10.0
@@ -86,3 +87,76 @@ def severity(relative: Mapping[str, float], *, failed: bool, topological: bool) 
     if topological or worst > ROUNDOFF_MULTIPLE:
         return "gross", worst
     return "roundoff", worst
+
+
+def severity_reason(grade: str, max_violation: float | None, *, manifoldness: object = True, detail: str = "") -> str:
+    """Why a verdict has its severity, in a few words: what a reader needs next to "gross" or "roundoff".
+
+    ``roundoff`` is always a distance (at most :data:`ROUNDOFF_MULTIPLE`
+    DISTround); ``gross`` is either a distance beyond it or a structural
+    failure no rounding explains, whatever the distances: a wrong orientation
+    (faces inward, a clockwise polygon), a surface wrapping more than once, a
+    surface that is not a closed manifold.
+
+    Parameters
+    ----------
+    grade : str
+        The severity (``none``, ``roundoff``, ``gross``).
+    max_violation : float or None
+        The worst violation in DISTround units.
+    manifoldness : object
+        The manifoldness check's result (False: it failed).
+    detail : str
+        The verdict's detail line (a row's ``reason``): names the structural failure.
+
+    Returns
+    -------
+    str
+        ``""`` for ``none`` or an unknown grade.
+
+    Examples
+    --------
+    >>> severity_reason("roundoff", 0.0387)
+    '0.0387 x DISTround'
+    >>> severity_reason("gross", 0.0387, manifoldness=False, detail="manifoldness: clockwise orientation (signed area negative)")
+    'wrong orientation, 0.0387 x DISTround'
+    >>> severity_reason("gross", 31.0)
+    '31 x DISTround'
+    """
+    distance = None
+    try:
+        value = float(max_violation) if max_violation is not None else None
+    except (TypeError, ValueError):
+        value = None
+    if value is not None and not math.isnan(value):
+        distance = f"{value:.3g} x DISTround"
+    if grade == "roundoff":
+        return distance or ""
+    if grade != "gross":
+        return ""
+    if value is not None and value > ROUNDOFF_MULTIPLE:
+        return distance or ""
+    text = detail or ""
+    if "orientation" in text:
+        why = "wrong orientation"
+    elif "wraps" in text:
+        why = "the surface wraps more than once"
+    elif manifoldness is False or str(manifoldness) == "False":
+        why = "not a closed manifold"
+    else:
+        why = "structural"
+    return f"{why}, {distance}" if distance else why
+
+
+def describe_severity(grade: str, max_violation: float | None, *, manifoldness: object = True, detail: str = "") -> str:
+    """``gross (wrong orientation, 0.0387 x DISTround)`` or ``roundoff (0.04 x DISTround)``: the grade with its reason.
+
+    Examples
+    --------
+    >>> describe_severity("roundoff", 0.04)
+    'roundoff (0.04 x DISTround)'
+    >>> describe_severity("none", 0.0)
+    'none'
+    """
+    why = severity_reason(grade, max_violation, manifoldness=manifoldness, detail=detail)
+    return f"{grade} ({why})" if why else grade

@@ -67,7 +67,7 @@ EXIT_STATUS_HELP = (
 
 #: Subcommand modules, in --help order.  Each defines ``add_parser(subparsers)``
 #: which registers the subcommand and sets ``handler(args) -> int`` as its default.
-SUBCOMMANDS = ("run", "search", "reproduce", "replay", "list", "check", "shrink", "fuzz", "export", "findings")
+SUBCOMMANDS = ("run", "report", "search", "reproduce", "replay", "list", "check", "shrink", "fuzz", "export", "findings")
 
 
 class _Parser(argparse.ArgumentParser):
@@ -75,6 +75,16 @@ class _Parser(argparse.ArgumentParser):
 
     def error(self, message: str) -> NoReturn:
         self.exit(EXIT_USAGE, f"{self.prog}: error: {message}\n")
+
+    def _check_value(self, action: argparse.Action, value: object) -> None:
+        """argparse's check of a fixed choice (a subcommand, --profile, --sphere ...), with a "did you mean"."""
+        try:
+            super()._check_value(action, value)  # type: ignore[misc]
+        except argparse.ArgumentError as exc:
+            from ..suggest import did_you_mean
+
+            exc.message += did_you_mean(value, [str(c) for c in action.choices or ()])
+            raise
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -146,6 +156,12 @@ def _error(message: str) -> None:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit status (never raises on bad input)."""
+    from ..plugins import shadowed_message, shadowing_folder
+
+    shadow = shadowing_folder()
+    if shadow is not None:  # nothing would work: `from hullstress import ...` finds an empty folder
+        _error(shadowed_message(shadow))
+        return EXIT_USAGE
     parser = build_parser()
     try:
         args = parser.parse_args(argv)

@@ -56,10 +56,16 @@ def seconds(*, zero: bool = False) -> Callable[[str], float]:
 
 
 def mebibytes(text: str) -> float:
-    """A memory limit in MiB: 0 (no limit) or a finite positive number."""
+    """A memory limit in MiB: 0 (no limit) or a finite number of at least ``DEFAULTS.min_memory_limit_mb``."""
+    from ..options import DEFAULTS
+
     value = _finite(text)
     if value < 0:
         raise argparse.ArgumentTypeError(f"must be 0 (no limit) or a positive number of MiB, got {text!r}")
+    if 0 < value < DEFAULTS.min_memory_limit_mb:
+        raise argparse.ArgumentTypeError(
+            f"{text!r} MiB is below the minimum of {DEFAULTS.min_memory_limit_mb:g} MiB that a worker needs beyond "
+            "its libraries to judge a case (0 for no limit)")
     return value
 
 

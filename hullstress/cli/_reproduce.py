@@ -144,7 +144,11 @@ def _run(points: np.ndarray, dim: int, recorded: Any, timeout: float) -> tuple[b
     lines = [f"{config.label} on {len(points) if points.ndim else 0} points ({dim}D): {row.status}"
              + (f" in stage {values['stage']}" if values.get("stage") else "")]
     if now is not None and now.checks:
-        lines.append(f"  failed checks: {now.checks}" + (f" ({now.severity})" if now.severity else ""))
+        from ..checker.severity import describe_severity
+
+        shown = describe_severity(now.severity, row.get("max_violation"), manifoldness=row.get("manifoldness"),
+                                  detail=str(row.get("reason") or "")) if now.severity else ""
+        lines.append(f"  failed checks: {now.checks}" + (f" ({shown})" if shown else ""))
     if row.get("reason"):
         lines.append(f"  reason: {row.get('reason')}")
     if row.get("error_frame"):

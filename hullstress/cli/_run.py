@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import math
 import sys
+from collections.abc import Sequence
 from typing import Any
 
 from ..config import EPS_CHOICES, SPHERE_CHOICES
@@ -12,9 +13,9 @@ from ..errors import UsageError
 from ..options import DEFAULTS, PROFILES
 from . import EXIT_NO_WORK, EXIT_STATUS_HELP
 from ._common import PROCESS, add_registration_options, count, mebibytes, registration_args, seconds
-from ..records import Status
+from ..records import Stage, Status
 
-__all__ = ["add_parser", "run_command", "parse_sizes"]
+__all__ = ["add_parser", "run_command", "parse_sizes", "run_options", "print_summary"]
 
 
 def parse_sizes(text: str) -> tuple[int, ...]:
@@ -47,9 +48,12 @@ def parse_sizes(text: str) -> tuple[int, ...]:
 def _transforms(names: list[str]) -> tuple[str, ...]:
     from generators import TRANSFORMS
 
+    from ..suggest import did_you_mean
+
     for name in names:
         if name not in TRANSFORMS:
-            raise UsageError(f"--transform must be one of {', '.join(sorted(TRANSFORMS))}, got {name!r}")
+            raise UsageError(f"--transform must be one of {', '.join(sorted(TRANSFORMS))}, got {name!r}"
+                             f"{did_you_mean(name, TRANSFORMS)}")
     return tuple(dict.fromkeys(names))
 
 
@@ -87,16 +91,19 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
     p.add_argument("--seed", type=int, default=0,
                    help="base seed; same seed and arguments give the same table (default 0)")
     p.add_argument("--workers", type=count(minimum=0), default=None, metavar="N",
-                   help="worker processes (default: all cores; 0 runs in this process without isolation)")
+                   help="worker processes (default: all cores; 0 runs in this process without isolation: a crash of "
+                   "the code under test ends the run, and `report RUN_FOLDER` then makes the report of its rows)")
     p.add_argument("--timeout", type=seconds(), default=None, metavar="SECONDS",
                    help="per-call timeout (default: the profile's)")
     p.add_argument("--time-budget", type=seconds(), default=None, metavar="SECONDS",
                    help="stop starting new calls after this long (each family's smallest case always runs); "
                    "the report covers what ran and says what it did not reach (exit status 5 when not one call ran)")
     p.add_argument("--memory-limit", type=mebibytes, default=DEFAULTS.memory_limit_mb, metavar="MB",
-                   help="address-space limit per worker process in MiB; a runaway allocation becomes an "
-                   f"error or crash row, and sizes whose cases would not fit are refused before anything "
-                   f"is generated (default {DEFAULTS.memory_limit_mb:g}; 0 for none)")
+                   help="what the code under test and its check may allocate per worker process, in MiB, beyond "
+                   "the worker's own libraries (RLIMIT_AS); a runaway allocation becomes an error row naming the "
+                   "limit (or a crash row), and sizes whose cases would not fit are refused before anything "
+                   f"is generated (default {DEFAULTS.memory_limit_mb:g}; at least {DEFAULTS.min_memory_limit_mb:g}; "
+                   "0 for none)")
     p.add_argument("--scheduler", default=None, metavar="ADDRESS",
                    help="run on the Dask cluster at this scheduler address (e.g. tcp://host:8786) "
                    "instead of local worker processes; the table is the same as a local run's")
@@ -140,8 +147,20 @@ def run_command(args: argparse.Namespace) -> int:
         from ..forkserver import start_method
 
         start_method()
-    from ..pipeline import RunOptions, run
+    from ..pipeline import run
     from ..progress import progress_enabled
+
+    options = run_options(args)
+    echo = None if args.quiet else (lambda line: print(line, file=sys.stderr, flush=True))
+    the_run = run(options, echo=echo, progress=progress_enabled(sys.stderr, quiet=args.quiet),
+                  warn=lambda line: print(line, file=sys.stderr, flush=True))
+    print_summary(the_run, args, quiet=args.quiet)
+    return the_run.exit_status
+
+
+def run_options(args: argparse.Namespace) -> Any:
+    """The :class:`~hullstress.pipeline.RunOptions` of ``run``'s parsed arguments (also those a run.json recorded)."""
+    from ..pipeline import RunOptions
     from ..sweep import SweepOptions
 
     sweep = SweepOptions(
@@ -169,18 +188,16 @@ def run_command(args: argparse.Namespace) -> int:
         arguments={k: v for k, v in vars(args).items() if k != "handler"},
         yield_cpu=PROCESS.owned,
     )
-    echo = None if args.quiet else (lambda line: print(line, file=sys.stderr, flush=True))
-    the_run = run(options, echo=echo, progress=progress_enabled(sys.stderr, quiet=args.quiet))
-    _print_summary(the_run, args, quiet=args.quiet)
-    return the_run.exit_status
+    return options
 
 
-def _print_summary(the_run: Any, args: argparse.Namespace, *, quiet: bool) -> None:
+def print_summary(the_run: Any, args: argparse.Namespace, *, quiet: bool) -> None:
     """The terminal's last lines, like pytest's short summary: the top causes and their folders, then the totals.
 
     Results go to stdout; what needs the user's attention (notes, hints, an
     interrupt, a refused write, no work done) to stderr.
     """
+    from ..report.failures import reproduce_command
     from ..report.summary import TABLES, TOP_CAUSES
     from ..report.tables import failure_counts
 
@@ -193,18 +210,16 @@ def _print_summary(the_run: Any, args: argparse.Namespace, *, quiet: bool) -> No
     report = the_run.report
     folders = {r.cause.slug: r.folder for r in report.records} if report is not None else {}
     if not quiet and triage is not None and triage.causes:
-        causes = triage.causes
-        shown = min(TOP_CAUSES, len(causes))
-        print(_rule(f"short summary: top {shown} of {len(causes)} causes"))
-        for rank, cause in enumerate(causes[:shown], start=1):
-            size = (f"{cause.minimal_size} point{'' if cause.minimal_size == 1 else 's'}"
-                    + ("" if cause.minimised else " (not shrunk)"))
-            print(f"CAUSE {rank}: {cause.failures} failed in {len(cause.families)} "
-                  f"famil{'y' if len(cause.families) == 1 else 'ies'}, {size}: {cause.headline}")
-            if cause.slug in folders:
-                print(f"    {folders[cause.slug]}")
-        if len(causes) > shown:
-            print(f"... {len(causes) - shown} more causes in {the_run.run_dir / TABLES['causes']}")
+        for title, tag, causes in cause_sections(triage.causes):
+            shown = min(TOP_CAUSES, len(causes))
+            print(_rule(title.format(shown=shown, total=len(causes))))
+            for rank, cause in enumerate(causes[:shown], start=1):
+                print(_cause_line(tag, rank, cause))
+                if cause.slug in folders:
+                    print(f"    {folders[cause.slug]}")
+                    print(f"    reproduce: {reproduce_command(folders[cause.slug])}")
+            if len(causes) > shown:
+                print(f"... {len(causes) - shown} more causes in {the_run.run_dir / TABLES['causes']}")
     if not quiet and len(table):
         by_config = failure_counts(table)
         method, internal = int(by_config["method_failed"].sum()), int(by_config["internal_errors"].sum())
@@ -230,9 +245,16 @@ def _print_summary(the_run: Any, args: argparse.Namespace, *, quiet: bool) -> No
         print(f"hint: {hint}", file=sys.stderr)
     print(f"report: {the_run.run_dir}")
     status = the_run.exit_status
+    if the_run.crash:
+        print(f"the sweep was cut short ({the_run.ended}): {the_run.crash}", file=sys.stderr)
+    untriaged = the_run.n_failed if triage is None or not triage.groups else 0
     if the_run.interrupted:
+        from ..report.failures import report_run_command
+
         print(f"hullstress: interrupted ({'SIGTERM' if status == 143 else 'SIGINT'}); "
-              "the report covers what finished", file=sys.stderr)
+              "the report covers what finished"
+              + (f"; {untriaged} failed calls were not triaged: run `{report_run_command(the_run.run_dir)}` "
+                 "to triage them" if untriaged else ""), file=sys.stderr)
     elif the_run.environment_errors:
         more = len(the_run.environment_errors) - 1
         print(f"hullstress: error: {the_run.environment_errors[0]}"
@@ -253,6 +275,31 @@ def _print_comparison(comparison: Any, baseline: str) -> None:
     for state in ("new", "fixed", "not-reached"):
         for label in comparison.loc[comparison["state"] == state, "label"]:
             print(f"  {state}: {label}")
+
+
+#: The terminal's sections of causes, by the stage that failed: the algorithms' own first.
+CAUSE_SECTIONS = (
+    (Stage.ALGORITHM, "short summary: top {shown} of {total} causes in the algorithms", "CAUSE"),
+    (Stage.PREPROCESS, "the sphere method: top {shown} of {total} causes (stage preprocess)", "METHOD"),
+    (Stage.CHECK, "hullstress itself: top {shown} of {total} errors (stage check)", "INTERNAL"),
+)
+
+
+def cause_sections(causes: Sequence[Any]) -> list[tuple[str, str, list[Any]]]:
+    """Triage's causes split by stage, in :data:`CAUSE_SECTIONS` order, each worst first; empty sections left out."""
+    out = []
+    for stage, title, tag in CAUSE_SECTIONS:
+        mine = [c for c in causes if str(c.signature.stage) == stage.value]
+        if mine:
+            out.append((title, tag, mine))
+    return out
+
+
+def _cause_line(tag: str, rank: int, cause: Any) -> str:
+    size = (f"{cause.minimal_size} point{'' if cause.minimal_size == 1 else 's'}"
+            + ("" if cause.minimised else " (not shrunk)"))
+    return (f"{tag} {rank}: {cause.failures} failed in {len(cause.families)} "
+            f"famil{'y' if len(cause.families) == 1 else 'ies'}, {size}: {cause.headline}")
 
 
 def _rule(title: str, width: int = 79) -> str:

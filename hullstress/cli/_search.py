@@ -50,7 +50,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
     p.add_argument("--timeout", type=seconds(), default=None, metavar="SECONDS",
                    help="per-call timeout (default: the quick profile's)")
     p.add_argument("--memory-limit", type=mebibytes, default=DEFAULTS.memory_limit_mb, metavar="MB",
-                   help=f"address-space limit per worker process in MiB (default {DEFAULTS.memory_limit_mb:g}; 0 for none)")
+                   help="what the code under test may allocate per worker process in MiB, beyond the worker's own "
+                   f"libraries (default {DEFAULTS.memory_limit_mb:g}; at least {DEFAULTS.min_memory_limit_mb:g}; "
+                   "0 for none)")
     add_registration_options(p)
     p.add_argument("--out", default="reports", metavar="DIR", help="where the run folder goes (default: reports)")
     p.add_argument("--no-qhull", action="store_true", help="skip the Qhull agreement check")
@@ -71,7 +73,7 @@ def search_command(args: argparse.Namespace) -> int:
     from ..progress import progress_enabled
     from ..search import Search, SearchOptions
     from ..sweep import SweepOptions
-    from ._run import _print_summary, parse_sizes
+    from ._run import parse_sizes, print_summary
 
     evaluations = args.evaluations
     if evaluations is None:
@@ -94,5 +96,5 @@ def search_command(args: argparse.Namespace) -> int:
     the_run = run(options, echo=echo, progress=progress_enabled(sys.stderr, quiet=args.quiet))
     if not args.quiet:
         print(executor.summary())
-    _print_summary(the_run, args, quiet=args.quiet)
+    print_summary(the_run, args, quiet=args.quiet)
     return the_run.exit_status

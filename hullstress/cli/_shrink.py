@@ -87,8 +87,10 @@ def shrink_command(args: argparse.Namespace) -> int:
     from ._common import registration_args
 
     if args.check is not None and args.check not in FAILED_CHECKS:
-        raise UsageError(f"--check {args.check!r} is not a failure hullstress knows; valid checks: "
-                         + ", ".join(FAILED_CHECKS))
+        from ..suggest import did_you_mean
+
+        raise UsageError(f"--check {args.check!r} is not a failure hullstress knows"
+                         f"{did_you_mean(args.check, FAILED_CHECKS)}; valid checks: " + ", ".join(FAILED_CHECKS))
     spec = get_algorithm(args.algorithm)
     dim = args.dim if args.dim is not None else spec.dim
     if dim != spec.dim:

@@ -52,7 +52,7 @@ from ..triage.records import Cause, TriageRecord
 from ..triage.signature import Signature
 
 __all__ = ["FailureRecord", "write_cause_folder", "write_failure_folder", "draw_picture", "picture_request",
-           "picture_png", "with_picture", "reproduce_command",
+           "picture_png", "with_picture", "reproduce_command", "report_run_command",
            "python_command", "CASE_FILE", "TIMING_KEYS"]
 
 #: The file of a folder that ``hullstress reproduce`` reads.
@@ -148,6 +148,17 @@ def reproduce_command(folder: Path) -> str:
     'hullstress reproduce /r/failures/x'
     """
     return shlex.join([python_command(), "-m", "hullstress", "reproduce", str(Path(folder).absolute())])
+
+
+def report_run_command(run_dir: Path) -> str:
+    """``<this python> -m hullstress report <run folder>``: triages a run folder's rows and writes its report.
+
+    Examples
+    --------
+    >>> report_run_command(Path("/r/20260101-000000-quick-seed0")).split(" -m ", 1)[1]
+    'hullstress report /r/20260101-000000-quick-seed0'
+    """
+    return shlex.join([python_command(), "-m", "hullstress", "report", str(Path(run_dir).absolute())])
 
 
 def _plugin_arg(spec: str) -> str:

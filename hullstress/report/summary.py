@@ -24,7 +24,7 @@ from .tables import failure_counts, status_counts
 from ..records import FAILED_STATUSES
 
 __all__ = ["TOP_CAUSES", "TABLES", "write_sweep_tables", "causes_frame", "groups_table", "summary_markdown",
-           "write_summary", "cause_table_rows"]
+           "write_summary", "cause_table_rows", "untriaged_line", "run_folder_of"]
 
 #: Causes listed in summary.md and at the end of the terminal output.
 TOP_CAUSES = 12
@@ -131,7 +131,7 @@ def summary_markdown(
     top : int
         Causes listed.
     """
-    state = "complete" if meta.get("complete", True) else "INCOMPLETE (interrupted or out of time budget)"
+    state = _state_words(meta)
     n_cases = int(table["case_id"].nunique()) if len(table) else 0
     wall = (meta.get("timings") or {}).get("wall_seconds", 0) or 0
     counts = table["status"].value_counts() if len(table) else pd.Series(dtype=int)
@@ -145,7 +145,7 @@ def summary_markdown(
         lines += ["Triage has not run yet: failure groups and causes follow when it has.", ""]
     elif not causes:
         lines += ["## No failures" if not failed else "## Causes", "",
-                  "Nothing failed." if not failed else f"{failed} failed calls; triage kept no record of them.", ""]
+                  "Nothing failed." if not failed else untriaged_line(failed, meta), ""]
     else:
         shown = min(top, len(causes))
         lines += [f"## Top causes ({shown} of {len(causes)})", "",
@@ -170,6 +170,39 @@ def summary_markdown(
     if skipped:
         lines += [f"{len(skipped)} cases could not be generated; run.json lists them.", ""]
     return "\n".join(lines).rstrip("\n") + "\n"
+
+
+def _state_words(meta: Mapping[str, Any]) -> str:
+    """How the run ended, for the summary's first line."""
+    state = str(meta.get("state") or "")
+    if meta.get("complete", True) and state in ("", "complete"):
+        return "complete"
+    words = {
+        "crashed": "INCOMPLETE: the code under test crashed the run (no isolation)",
+        "running": "INCOMPLETE: the process ended before the sweep did (killed)",
+        "interrupted": f"INCOMPLETE: interrupted ({meta.get('signal') or 'Ctrl-C or SIGTERM'})",
+        "environment-failure": "INCOMPLETE: a write was refused",
+        "incomplete": "INCOMPLETE: out of time budget",
+    }
+    return words.get(state, "INCOMPLETE (interrupted or out of time budget)")
+
+
+def run_folder_of(meta: Mapping[str, Any]) -> Path | None:
+    """The run folder ``run.json`` describes (its ``--out`` and run id), or None when it does not say."""
+    out = (meta.get("arguments") or {}).get("out")
+    run_id = meta.get("run_id")
+    if not out or not run_id:
+        return None
+    return Path(str(out)) / str(run_id)
+
+
+def untriaged_line(failed: int, meta: Mapping[str, Any]) -> str:
+    """Failed calls that triage did not group (an interrupt came first), with the command that triages them."""
+    from .failures import report_run_command
+
+    folder = run_folder_of(meta)
+    how = f": run `{report_run_command(folder)}`" if folder is not None else " with `python -m hullstress report RUN_FOLDER`"
+    return f"{failed} failed calls were not triaged (the run stopped before triage); triage them{how}."
 
 
 def write_summary(run_dir: Path, text: str) -> Path:

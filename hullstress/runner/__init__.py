@@ -34,7 +34,7 @@ from ..evaluate import CaseFacts
 from ..results import ResultRow
 from ._pool import STREAM_PREFETCH, JobFeed, PendingJob, PoolSettings, WorkerPool, start_method
 from ._protocol import algorithm_refs, refs_for_configs
-from ._serial import run_serial
+from ._serial import CRASH_LOG, crash_log, no_isolation_warning, run_serial
 from ._types import DEFAULT_CHECK_TIMEOUT, DEFAULT_MEMORY_LIMIT_MB, ExecutionStats, RunnerOptions, Task
 
 __all__ = [
@@ -48,6 +48,9 @@ __all__ = [
     "PendingJob",
     "DEFAULT_MEMORY_LIMIT_MB",
     "DEFAULT_CHECK_TIMEOUT",
+    "no_isolation_warning",
+    "crash_log",
+    "CRASH_LOG",
 ]
 
 

@@ -375,6 +375,37 @@ def captured_output() -> Iterator[list[str]]:
         result.append(_RUN_ID.sub("run-id <n>", text)[-CALL_OUTPUT_CHARS:] if text else "")
 
 
+#: The ``--memory-limit`` of this worker process in bytes (set by the worker; None: no limit).
+_memory_limit_bytes: int | None = None
+
+
+def note_memory_limit(limit_bytes: int | None) -> None:
+    """Record this process's memory limit, so that a ``MemoryError`` row names it."""
+    global _memory_limit_bytes
+    _memory_limit_bytes = limit_bytes
+
+
+def naming_memory_limit(row: ResultRow) -> ResultRow:
+    """A row whose reason is a ``MemoryError``, with the limit that refused the allocation.
+
+    Examples
+    --------
+    >>> from hullstress.results import ResultRow
+    >>> note_memory_limit(64 * 2**20)
+    >>> naming_memory_limit(ResultRow({"reason": "MemoryError"}))["reason"]
+    'MemoryError: an allocation went over --memory-limit 64 MiB'
+    >>> note_memory_limit(None)
+    """
+    reason = str(row.get("reason") or "")
+    if _memory_limit_bytes is None or "MemoryError" not in reason or "--memory-limit" in reason:
+        return row
+    limit = f"an allocation went over --memory-limit {_memory_limit_bytes / 2**20:g} MiB"
+    head, sep, rest = reason.partition("MemoryError")
+    rest = rest.lstrip(":").strip()
+    named = f"{head}MemoryError: {limit}" + (f" ({rest})" if rest else "")
+    return ResultRow({**row.values, "reason": named})
+
+
 def _with_output(row: ResultRow, output: list[str]) -> ResultRow:
     return ResultRow({**row.values, "call_output": output[0]}) if output and output[0] else row
 
@@ -455,7 +486,7 @@ def run_job(job: Job, problems: Mapping[str, str] | None = None, *,
                            reason=f"internal: judging raised {one_line(exc)}",
                            seconds=outcome.seconds, eps_value=outcome.eps_value,
                            degenerate=facts.degenerate, invalid_input=facts.invalid_input)
-        yield ("row", k, _with_output(row, output))
+        yield ("row", k, _with_output(naming_memory_limit(row), output))
     yield ("done",)
 
 

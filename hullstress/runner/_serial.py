@@ -10,14 +10,69 @@ the ones an isolated run gives for every call that returns.
 
 from __future__ import annotations
 
+import faulthandler
+import os
+import sys
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
+from pathlib import Path
 
 from ..results import ResultRow
 from ._protocol import Job, emit_row, run_job
 from ._types import ExecutionStats, RunnerOptions, Task
 
-__all__ = ["run_serial"]
+__all__ = ["run_serial", "no_isolation_warning", "crash_log", "CRASH_LOG"]
+
+#: In the run folder of a run without isolation: what Python's faulthandler wrote when the code under
+#: test killed the process (SIGSEGV, SIGFPE, SIGABRT, SIGBUS, SIGILL); absent when nothing crashed.
+CRASH_LOG = "crash.log"
+
+
+def no_isolation_warning(run_dir: Path) -> str:
+    """The one line a run without isolation starts with: what a crash does, and the command to run after one."""
+    from ..report.failures import report_run_command
+
+    return (f"warning: --workers 0 runs the code under test in this process, without isolation: a crash of it "
+            f"ends the run (no --memory-limit; a timeout stops only Python code); finished rows stay in "
+            f"{Path(run_dir) / 'results.partial.csv'}, and `{report_run_command(run_dir)}` triages them into a report")
+
+
+@contextmanager
+def crash_log(run_dir: Path, *, enabled: bool = True) -> Iterator[None]:
+    """While the sweep runs in this process, a fatal signal leaves its traceback in ``run_dir/crash.log``.
+
+    The process still dies (faulthandler re-raises the signal); ``hullstress
+    report`` reads the file to say how the run ended.  The file is removed
+    when nothing crashed.  A faulthandler enabled before (pytest's) is
+    enabled again on ``sys.stderr`` afterwards.
+    """
+    if not enabled:
+        yield
+        return
+    path = Path(run_dir) / CRASH_LOG
+    was_enabled = faulthandler.is_enabled()
+    try:
+        fh = open(path, "w", encoding="utf-8")
+    except OSError:
+        yield  # an unwritable run folder is reported by the row stream, not here
+        return
+    try:
+        faulthandler.enable(file=fh, all_threads=False)
+        yield
+    finally:
+        faulthandler.disable()
+        fh.close()
+        if was_enabled:
+            try:
+                faulthandler.enable(file=sys.stderr)
+            except (ValueError, OSError, AttributeError):
+                pass  # stderr without a file descriptor (captured)
+        try:
+            if os.path.getsize(path) == 0:
+                path.unlink()
+        except OSError:
+            pass
 
 
 def run_serial(

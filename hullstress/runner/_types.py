@@ -53,8 +53,10 @@ class RunnerOptions:
     qhull : bool
         Compute Qhull references (needed for the agreement check).
     memory_limit_mb : float or None
-        Address-space limit per isolated worker in MiB (``RLIMIT_AS``); None or
-        0 for no limit.  Ignored with ``workers=0``.
+        What the code under test and its check may allocate in an isolated
+        worker, in MiB, beyond the worker's address space once its libraries
+        are loaded (enforced with ``RLIMIT_AS``); None or 0 for no limit, else at
+        least ``DEFAULTS.min_memory_limit_mb``.  Ignored with ``workers=0``.
     check_timeout : float or None
         Limit on trusted work per step in a worker (case facts, one check);
         None means ``max(60, 10 * timeout)``.  Exceeding it is an ``error``
@@ -93,6 +95,9 @@ class RunnerOptions:
             raise UsageError(f"time_budget must be positive, got {self.time_budget!r}")
         if self.memory_limit_mb is not None and not self.memory_limit_mb >= 0:
             raise UsageError(f"memory_limit_mb must be 0 (no limit) or positive, got {self.memory_limit_mb!r}")
+        if self.memory_limit_mb and self.memory_limit_mb < DEFAULTS.min_memory_limit_mb:
+            raise UsageError(f"memory_limit_mb {self.memory_limit_mb:g} is below the minimum of "
+                             f"{DEFAULTS.min_memory_limit_mb:g} MiB that a worker needs beyond its libraries")
         if self.check_timeout is not None and not self.check_timeout > 0:
             raise UsageError(f"check_timeout must be positive, got {self.check_timeout!r}")
 

@@ -3,9 +3,14 @@
 A worker runs untrusted code, so it is set up to fail in recordable ways:
 
 * an address-space limit (``RLIMIT_AS``) turns a runaway allocation into
-  ``MemoryError`` (an ``error`` row) or, failing that, into the death of this
-  process (a ``crash`` row) instead of the machine swapping or the OOM killer
-  picking a victim;
+  ``MemoryError`` (an ``error`` row naming the limit) or, failing that, into
+  the death of this process (a ``crash`` row) instead of the machine swapping
+  or the OOM killer picking a victim.  The limit counts what the code under
+  test and its check allocate: it is set to the worker's own address space
+  once its libraries are loaded (about 0.5 GiB of mappings, most never
+  touched) plus ``--memory-limit``.  An address-space limit below what a
+  process maps already refuses only new mappings, which a warm worker rarely
+  needs: that is why ``--memory-limit 1`` used to change nothing;
 * SIGINT is ignored: Ctrl-C in a terminal reaches the whole process group,
   and it is the parent's job to stop the sweep and kill the workers;
 * on Linux, ``PR_SET_PDEATHSIG`` kills it when its parent (the fork server)
@@ -44,20 +49,35 @@ THREAD_ENV = {
 }
 
 
+def address_space_bytes() -> int:
+    """The address space this process maps now (``/proc/self/statm``), or 0 where that is not known."""
+    try:
+        with open("/proc/self/statm", encoding="ascii") as fh:
+            pages = int(fh.read().split()[0])
+        return pages * os.sysconf("SC_PAGE_SIZE")
+    except (OSError, ValueError, IndexError, AttributeError):
+        return 0
+
+
 def _limit_memory(limit_bytes: int | None) -> None:
+    """Let this process map ``limit_bytes`` more than it maps now (``RLIMIT_AS``); name the limit in rows."""
     if not limit_bytes:
         return
     try:
         import resource
     except ImportError:  # not POSIX
         return
+    from ._protocol import note_memory_limit
+
     soft, hard = resource.getrlimit(resource.RLIMIT_AS)
+    total = address_space_bytes() + limit_bytes
     if hard != resource.RLIM_INFINITY:
-        limit_bytes = min(limit_bytes, hard)
+        total = min(total, hard)
     try:
-        resource.setrlimit(resource.RLIMIT_AS, (limit_bytes, hard))
+        resource.setrlimit(resource.RLIMIT_AS, (total, hard))
     except (ValueError, OSError):
-        pass  # e.g. macOS refuses RLIMIT_AS: the run's notes say limits are best effort
+        return  # e.g. macOS refuses RLIMIT_AS: the run's notes say limits are best effort
+    note_memory_limit(limit_bytes)
 
 
 def worker_main(conn: Connection, limit_bytes: int | None) -> None:
@@ -76,12 +96,12 @@ def worker_main(conn: Connection, limit_bytes: int | None) -> None:
     die_with_parent()
     for key, value in THREAD_ENV.items():
         os.environ.setdefault(key, value)
-    _limit_memory(limit_bytes)
 
     from .._registry import load_builtins
     from ._protocol import ensure_algorithm, run_job
 
     load_builtins()
+    _limit_memory(limit_bytes)  # from the address space of a worker with its libraries loaded
     problems: dict[str, str | None] = {}
     while True:
         try:

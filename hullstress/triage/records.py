@@ -203,10 +203,19 @@ class Cause:
 
         Examples
         --------
-        ``gift-wrap-3d[sphere=off,eps=scaled] fail containment (gross) (+3 configs)``
+        ``gift-wrap-3d[sphere=off,eps=scaled] fail containment (gross (31 x DISTround)) (+3 configs)``
         """
         more = len(self.configs) - 1
-        return self.signature.label + (f" (+{more} config{'s' if more > 1 else ''})" if more > 0 else "")
+        label = self.signature.label
+        sig, row = self.signature, self.representative.shrink.row
+        if sig.severity and row is not None and f"({sig.severity})" in label:
+            from ..checker.severity import describe_severity
+
+            # The grade alone reads as a contradiction next to a small distance: say why (gross: an orientation).
+            shown = describe_severity(sig.severity, row.get("max_violation"), manifoldness=row.get("manifoldness"),
+                                      detail=str(row.get("reason") or ""))
+            label = label.replace(f"({sig.severity})", f"({shown})")
+        return label + (f" (+{more} config{'s' if more > 1 else ''})" if more > 0 else "")
 
     @property
     def minimised(self) -> bool:
