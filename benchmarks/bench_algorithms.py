@@ -366,7 +366,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             f"numpy {np.__version__}; ratios are to scipy ConvexHull on the same points in the same run"
         )
         print()
-        print("worst-case inputs:")
+        print("worst-case inputs:\n")  # a blank line: Markdown starts the list only after one
         for name in dict.fromkeys(s.name for s in specs):
             print(f"- {name}: {worst_case_for(name).why}")
         print()
