@@ -54,6 +54,7 @@ from collections.abc import Callable, Sequence  # noqa: E402
 from dataclasses import dataclass  # noqa: E402
 
 import numpy as np  # noqa: E402
+from _figures import add_figures_option, recorded  # noqa: E402  (a sibling: benchmarks run as scripts)
 from scipy.spatial import ConvexHull  # noqa: E402
 
 # The in-house modules; each registers its algorithms on import.  A module not
@@ -330,45 +331,47 @@ def main(argv: Sequence[str] | None = None) -> int:
                         help="apply the sphere variant (sphere_project) inside each timed call")
     parser.add_argument("--clock", choices=sorted(CLOCKS), default="cpu",
                         help="cpu: this process's CPU time (default; robust on a shared machine); wall: elapsed time")
+    add_figures_option(parser, "bench_algorithms")
     args = parser.parse_args(argv)
+    with recorded(args.figures, 'bench_algorithms', "scipy.spatial.ConvexHull on the same points (each '/ scipy' column)", argv):
 
-    import_modules()
-    from hullstress._registry import algorithms
+        import_modules()
+        from hullstress._registry import algorithms
 
-    specs = [s for s in algorithms() if s.origin == "in-house"]
-    if args.algorithm:
-        known = {s.name for s in specs}
-        unknown = sorted(set(args.algorithm) - known)
-        if unknown:
-            parser.error(f"--algorithm must be one of {', '.join(sorted(known))}, got {', '.join(unknown)}")
-        specs = [s for s in specs if s.name in args.algorithm]
-    kinds = INPUTS if args.input == "both" else (args.input,)
-    rows: list[Row] = []
-    for spec in specs:
-        for kind in kinds:
-            print(f"timing {spec.name} on {kind} input ...", file=sys.stderr, flush=True)
-            rows += bench_one(
-                spec,
-                kind,
-                sorted(args.sizes),
-                repeat=args.repeat,
-                max_seconds=args.max_seconds,
-                seed=args.seed,
-                sphere_variant=args.sphere,
-                clock=args.clock,
-            )
-    print(
-        f"seed={args.seed} repeat={args.repeat} max-seconds={args.max_seconds:g} clock={args.clock} "
-        f"sphere={'on' if args.sphere else 'off'}; {platform.machine()}, {os.cpu_count()} cores, "
-        f"numpy {np.__version__}; ratios are to scipy ConvexHull on the same points in the same run"
-    )
-    print()
-    print("worst-case inputs:")
-    for name in dict.fromkeys(s.name for s in specs):
-        print(f"- {name}: {worst_case_for(name).why}")
-    print()
-    print(markdown(rows))
-    return 0
+        specs = [s for s in algorithms() if s.origin == "in-house"]
+        if args.algorithm:
+            known = {s.name for s in specs}
+            unknown = sorted(set(args.algorithm) - known)
+            if unknown:
+                parser.error(f"--algorithm must be one of {', '.join(sorted(known))}, got {', '.join(unknown)}")
+            specs = [s for s in specs if s.name in args.algorithm]
+        kinds = INPUTS if args.input == "both" else (args.input,)
+        rows: list[Row] = []
+        for spec in specs:
+            for kind in kinds:
+                print(f"timing {spec.name} on {kind} input ...", file=sys.stderr, flush=True)
+                rows += bench_one(
+                    spec,
+                    kind,
+                    sorted(args.sizes),
+                    repeat=args.repeat,
+                    max_seconds=args.max_seconds,
+                    seed=args.seed,
+                    sphere_variant=args.sphere,
+                    clock=args.clock,
+                )
+        print(
+            f"seed={args.seed} repeat={args.repeat} max-seconds={args.max_seconds:g} clock={args.clock} "
+            f"sphere={'on' if args.sphere else 'off'}; {platform.machine()}, {os.cpu_count()} cores, "
+            f"numpy {np.__version__}; ratios are to scipy ConvexHull on the same points in the same run"
+        )
+        print()
+        print("worst-case inputs:\n")  # a blank line: Markdown starts the list only after one
+        for name in dict.fromkeys(s.name for s in specs):
+            print(f"- {name}: {worst_case_for(name).why}")
+        print()
+        print(markdown(rows))
+        return 0
 
 
 if __name__ == "__main__":

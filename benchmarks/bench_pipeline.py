@@ -32,6 +32,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from _bench_common import add_run_options, load_average, timed_run  # a sibling: benchmarks run as scripts
+from _figures import add_figures_option, recorded  # a sibling: benchmarks run as scripts
 
 #: The phases ``run.json`` times, in order.
 PHASES = ("generate", "sweep", "triage", "report")
@@ -82,21 +83,23 @@ def main(argv: list[str] | None = None) -> int:
     add_run_options(parser)
     parser.add_argument("--keep", type=Path, default=None, metavar="DIR",
                         help="write the runs' report folders under DIR and keep them (default: a temporary folder)")
+    add_figures_option(parser, "bench_pipeline")
     args = parser.parse_args(argv)
-    print(f"load average before: {load_average()}")
-    best: dict[int, Measured] = {}
-    with tempfile.TemporaryDirectory(prefix="hullstress-bench-pipeline-") as tmp:
-        root = args.keep if args.keep is not None else Path(tmp)
-        for r in range(args.repeat):
-            for workers in args.workers:
-                got = run_once(args, workers, root / f"r{r}-w{workers}")
-                print(f"  round {r + 1}, {workers} workers: {got.wall:.1f} s", file=sys.stderr)
-                if workers not in best or got.wall < best[workers].wall:
-                    best[workers] = got
-    print(f"load average after: {load_average()}\n")
-    print(f"## `python -m hullstress run --profile {args.profile} --seed {args.seed}` end to end\n")
-    print(table([best[w] for w in args.workers]))
-    return 0
+    with recorded(args.figures, 'bench_pipeline', "the first worker count's run of the same command (the speed-up columns)", argv):
+        print(f"load average before: {load_average()}")
+        best: dict[int, Measured] = {}
+        with tempfile.TemporaryDirectory(prefix="hullstress-bench-pipeline-") as tmp:
+            root = args.keep if args.keep is not None else Path(tmp)
+            for r in range(args.repeat):
+                for workers in args.workers:
+                    got = run_once(args, workers, root / f"r{r}-w{workers}")
+                    print(f"  round {r + 1}, {workers} workers: {got.wall:.1f} s", file=sys.stderr)
+                    if workers not in best or got.wall < best[workers].wall:
+                        best[workers] = got
+        print(f"load average after: {load_average()}\n")
+        print(f"## `python -m hullstress run --profile {args.profile} --seed {args.seed}` end to end\n")
+        print(table([best[w] for w in args.workers]))
+        return 0
 
 
 if __name__ == "__main__":

@@ -23,6 +23,7 @@ import sys
 import time
 
 import numpy as np
+from _figures import add_figures_option, recorded  # a sibling: benchmarks run as scripts
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -38,44 +39,46 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--points", type=int, default=8)
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--qhull", action="store_true", help="build the Qhull reference per job")
+    add_figures_option(parser, "bench_pool_jobs")
     args = parser.parse_args(argv)
-    load_builtins()
-    dim = get_algorithm(args.algorithm).dim
-    rng = np.random.default_rng(0)
-    config = AlgorithmConfig(args.algorithm)
-    tasks = [Task(i, candidate_case(rng.random((args.points, dim)), dim), (config,)) for i in range(args.jobs)]
+    with recorded(args.figures, "bench_pool_jobs", "the same jobs run in this process (the speed-up column)", argv):
+        load_builtins()
+        dim = get_algorithm(args.algorithm).dim
+        rng = np.random.default_rng(0)
+        config = AlgorithmConfig(args.algorithm)
+        tasks = [Task(i, candidate_case(rng.random((args.points, dim)), dim), (config,)) for i in range(args.jobs)]
 
-    def in_process(batch: list[Task]) -> None:
-        for task in batch:
-            for _ in run_job(Job(task=task, start_at=0, qhull=args.qhull, facts=None, refs=(),
-                                 budget_deadline=None, qhull_options=None)):
-                pass
+        def in_process(batch: list[Task]) -> None:
+            for task in batch:
+                for _ in run_job(Job(task=task, start_at=0, qhull=args.qhull, facts=None, refs=(),
+                                     budget_deadline=None, qhull_options=None)):
+                    pass
 
-    in_process(tasks[:20])  # warm-up: imports and caches
-    start = time.perf_counter()
-    in_process(tasks)
-    local = (time.perf_counter() - start) / len(tasks)
-    with CallPool(args.workers) as pool:
-        pool.run(tasks[:10], timeout=10, qhull=args.qhull)
-        busy = _busy_seconds()
+        in_process(tasks[:20])  # warm-up: imports and caches
         start = time.perf_counter()
-        pool.run(tasks, timeout=10, qhull=args.qhull)
-        pooled = (time.perf_counter() - start) / len(tasks)
-        pooled_cpu = (_busy_seconds() - busy) / len(tasks)
-        busy = _busy_seconds()
-        start = time.perf_counter()
-        pool.run(tasks, timeout=10, qhull=args.qhull, alone=[True] * len(tasks))
-        fresh = (time.perf_counter() - start) / len(tasks)
-        fresh_cpu = (_busy_seconds() - busy) / len(tasks)
-    print(f"| algorithm | jobs | in process ms/job | pool of {args.workers} ms/job (wall) | speed-up |")
-    print("| --- | ---: | ---: | ---: | ---: |")
-    print(f"| {args.algorithm} | {len(tasks)} | {local * 1e3:.2f} | {pooled * 1e3:.2f} | {local / pooled:.2f}x |")
-    print()
-    print(f"| pool of {args.workers} | ms/job (wall) | CPU ms/job (machine) |")
-    print("| --- | ---: | ---: |")
-    print(f"| a worker that ran jobs before | {pooled * 1e3:.2f} | {_ms(pooled_cpu)} |")
-    print(f"| a fresh worker per job | {fresh * 1e3:.2f} | {_ms(fresh_cpu)} |")
-    return 0
+        in_process(tasks)
+        local = (time.perf_counter() - start) / len(tasks)
+        with CallPool(args.workers) as pool:
+            pool.run(tasks[:10], timeout=10, qhull=args.qhull)
+            busy = _busy_seconds()
+            start = time.perf_counter()
+            pool.run(tasks, timeout=10, qhull=args.qhull)
+            pooled = (time.perf_counter() - start) / len(tasks)
+            pooled_cpu = (_busy_seconds() - busy) / len(tasks)
+            busy = _busy_seconds()
+            start = time.perf_counter()
+            pool.run(tasks, timeout=10, qhull=args.qhull, alone=[True] * len(tasks))
+            fresh = (time.perf_counter() - start) / len(tasks)
+            fresh_cpu = (_busy_seconds() - busy) / len(tasks)
+        print(f"| algorithm | jobs | in process ms/job | pool of {args.workers} ms/job (wall) | speed-up |")
+        print("| --- | ---: | ---: | ---: | ---: |")
+        print(f"| {args.algorithm} | {len(tasks)} | {local * 1e3:.2f} | {pooled * 1e3:.2f} | {local / pooled:.2f}x |")
+        print()
+        print(f"| pool of {args.workers} | ms/job (wall) | CPU ms/job (machine) |")
+        print("| --- | ---: | ---: |")
+        print(f"| a worker that ran jobs before | {pooled * 1e3:.2f} | {_ms(pooled_cpu)} |")
+        print(f"| a fresh worker per job | {fresh * 1e3:.2f} | {_ms(fresh_cpu)} |")
+        return 0
 
 
 def _busy_seconds() -> float:

@@ -65,6 +65,7 @@ from hullstress.runner import ExecutionStats, RunnerOptions, Task, execute
 from hullstress.sweep import SweepOptions, build_tasks
 
 from _bench_common import add_run_options, load_average, timed_run  # a sibling: benchmarks run as scripts
+from _figures import add_figures_option, recorded  # a sibling: benchmarks run as scripts
 
 T = TypeVar("T")
 
@@ -141,15 +142,17 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--plugin", action="append", default=[], help="load a plug-in first (repeatable)")
     parser.add_argument("--no-sweep", action="store_true", help="skip the sweep-only measurement")
     parser.add_argument("--no-end-to-end", action="store_true", help="skip the end-to-end measurement")
+    add_figures_option(parser, "bench_runner")
     args = parser.parse_args(argv)
-    print(f"load average before: {load_average()}\n")
-    # End to end first: the sweep table lowers this process's priority, which the commands would inherit.
-    if not args.no_end_to_end:
-        _end_to_end_table(args)
-    if not args.no_sweep:
-        _sweep_table(args)
-    print(f"load average after: {load_average()}")
-    return 0
+    with recorded(args.figures, "bench_runner", "1 worker, interleaved round by round with the other worker counts (the speed-up columns)", argv):
+        print(f"load average before: {load_average()}\n")
+        # End to end first: the sweep table lowers this process's priority, which the commands would inherit.
+        if not args.no_end_to_end:
+            _end_to_end_table(args)
+        if not args.no_sweep:
+            _sweep_table(args)
+        print(f"load average after: {load_average()}")
+        return 0
 
 
 def _end_to_end(args: argparse.Namespace, workers: int, out: Path) -> tuple[float, dict]:

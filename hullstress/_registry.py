@@ -67,7 +67,7 @@ class AlgorithmSpec:
     name : str
         The registry name (``--algorithm NAME``).
     func : callable
-        ``func(points, /, **kw) -> faces`` under DESIGN.md's contract.
+        ``func(points, /, **kw) -> faces`` under docs/design.md's contract.
     dim : int
         2 or 3.
     takes_eps : bool

@@ -1,4 +1,4 @@
-"""The output contract of DESIGN.md, enforced: raw algorithm output -> normalised faces.
+"""The output contract of docs/design.md, enforced: raw algorithm output -> normalised faces.
 
 An algorithm's return value is untrusted.  :func:`normalize_output` either
 turns it into a :class:`FaceSet` (3D) or a 1-D index array (2D), or raises
@@ -6,7 +6,7 @@ turns it into a :class:`FaceSet` (3D) or a 1-D index array (2D), or raises
 names the offending value.  A violation makes the call's status ``fail``.
 
 A face needs at least three vertices, except in the lower-dimensional answers
-of the README ("Lower-dimensional input"): a 3D input of affine rank 0 or 1
+of docs/lower-dimensional.md: a 3D input of affine rank 0 or 1
 (one point, a segment) may be answered with a face of one or two vertices.
 Whoever normalises before the rank is known passes ``min_face_size=1`` and
 applies :func:`require_face_size` once it is.

@@ -36,7 +36,7 @@ __all__ = [
 
 
 class ExitStatus(IntEnum):
-    """The exit statuses of every command (DESIGN.md, "Command line")."""
+    """The exit statuses of every command (docs/design.md, "Exit statuses")."""
 
     #: Nothing (new) failed.
     OK = 0
@@ -101,7 +101,7 @@ class InputFileError(UsageError):
 
 
 class ContractViolation(HullstressError):
-    """An algorithm's output breaks the output contract of DESIGN.md."""
+    """An algorithm's output breaks the output contract of docs/design.md."""
 
 
 class AlgorithmStepLimit(HullstressError):

@@ -9,7 +9,7 @@ part:
 * :func:`call_algorithm` — preprocessing (sphere variant, eps set-up), the
   algorithm call itself, and the output contract.  Untrusted: this is what a
   runner puts behind a timeout in a separate process.
-* :func:`judge` — status rules of DESIGN.md and the exact checker.  Trusted.
+* :func:`judge` — status rules of docs/design.md and the exact checker.  Trusted.
 
 :func:`evaluate` chains the three in-process, for tests, shrinking and replay.
 
@@ -431,7 +431,7 @@ def _method_problem(facts: CaseFacts, given: CaseFacts) -> str:
 
 
 def judge(case: Case, config: AlgorithmConfig, outcome: CallOutcome, facts: CaseFacts) -> ResultRow:
-    """Turn a call's outcome into a table row, applying DESIGN.md's status rules per stage."""
+    """Turn a call's outcome into a table row, applying docs/design.md's status rules per stage."""
     common = dict(seconds=outcome.seconds, eps_value=outcome.eps_value,
                   degenerate=facts.degenerate, invalid_input=facts.invalid_input)
     sphere = config.sphere == Sphere.ON
@@ -475,7 +475,7 @@ def judge(case: Case, config: AlgorithmConfig, outcome: CallOutcome, facts: Case
     if given.invalid_input:
         if problem:
             return method_failed(problem)
-        # No hull is defined: a clear rejection or any well-formed output is acceptable (README).
+        # No hull is defined: a clear rejection or any well-formed output is acceptable (docs/lower-dimensional.md).
         if given.invalid_input == "no points":
             return row(Status.PASS, "empty input, empty hull" if _is_empty(outcome.faces) else "empty input")
         return row(Status.PASS, f"no hull is defined for invalid input ({given.invalid_input}): "

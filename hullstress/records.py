@@ -39,7 +39,7 @@ class _Word(str, Enum):
 
 
 class Status(_Word):
-    """How one call ended; every row has exactly one (DESIGN.md, "The runner").
+    """How one call ended; every row has exactly one (docs/design.md, "Statuses and stages").
 
     Attributes
     ----------

@@ -28,7 +28,7 @@ __all__ = [
     "RESULTS_FILES",
 ]
 
-#: Every call ends in exactly one of these (DESIGN.md, "The runner").
+#: Every call ends in exactly one of these (docs/design.md, "Statuses and stages").
 STATUSES = tuple(s.value for s in Status)
 
 _PROVENANCE = ("case_id", "generator", "params", "transform", "dim", "n_points", "size", "seed", "source")

@@ -51,8 +51,8 @@ Readings taken where the seed is silent (each kept on purpose):
 Known weakness of the method, kept: the support mapping only probes the
 directions ``centroid -> p_i``.  A hull vertex that is not the farthest point
 in any of those directions is culled, so the hull built from the surface list
-can miss true vertices and leave input points outside it (on the README's
-run of uniform clouds, n = 16..256: 10% of the vertices in 2D, 23% in 3D).
+can miss true vertices and leave input points outside it (on the run of
+uniform clouds in docs/findings.md, n = 16..256: 10% of the vertices in 2D, 23% in 3D).
 It keeps them all when each point is the farthest along its own direction,
 e.g. centrally symmetric points on a sphere.  In 3D that is not enough:
 projecting even every true vertex radially onto a sphere changes which of

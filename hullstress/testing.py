@@ -133,7 +133,7 @@ def assert_valid_hull(
     faces : array_like
         In 2D, vertex indices counter-clockwise; in 3D, an (m, 3) integer array
         of triangles counter-clockwise seen from outside, or a list of polygons
-        (DESIGN.md's output contract).
+        (docs/design.md's output contract).
     qhull : bool, default True
         Also require agreement with Qhull's extreme vertex set and volume.
     max_offending : int, default 20
@@ -238,7 +238,7 @@ def assert_same_hull(
     ----------
     points : array_like of shape (n, 2) or (n, 3), float
     faces_a, faces_b : array_like
-        Two outputs under DESIGN.md's output contract.
+        Two outputs under docs/design.md's output contract.
     rtol : float, default 1e-9
         Relative tolerance for the volume (area) comparison.
 

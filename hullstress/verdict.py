@@ -27,7 +27,7 @@ __all__ = [
     "empty_verdict_row",
 ]
 
-#: The four checks of DESIGN.md, in report order.
+#: The four checks of docs/design.md, in report order.
 CHECKS = ("convexity", "containment", "manifoldness", "qhull_agreement")
 
 #: Every value the "failed check" part of a failure signature can take (``shrink --check`` accepts
@@ -85,7 +85,7 @@ class Verdict:
     Attributes
     ----------
     convexity, containment, manifoldness : bool
-        DESIGN.md's checks, decided with exact predicates.
+        docs/design.md's checks, decided with exact predicates.
     qhull_agreement : {"agree", "disagree", "qhull-wrong"} or None
         Whether the extreme vertex set and the volume (area) agree with
         Qhull's: ``"agree"`` or ``"disagree"`` (a failed check) against a

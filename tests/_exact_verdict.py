@@ -1,6 +1,6 @@
 """An independent exact verdict for small hulls, in integer arithmetic (the checker is under test).
 
-DESIGN.md's verdict semantics, implemented the obvious way and nothing
+docs/design.md's verdict semantics, implemented the obvious way and nothing
 faster: every point against every face, every polygon vertex against every
 polygon edge, the true hull by brute force over all point triples.  It
 shares no code with :mod:`hullstress.checker`; it exists to verify the
@@ -31,7 +31,7 @@ from scipy.spatial import ConvexHull, QhullError
 
 from _exact import winding_number as _winding
 
-#: Qhull's REALepsilon, and the severity and volume-tolerance multiples that DESIGN.md's
+#: Qhull's REALepsilon, and the severity and volume-tolerance multiples that docs/design.md's
 #: severity and Qhull agreement use (10 DISTround; restated here, not imported).
 EPS = 2.0**-52
 ROUNDOFF = 10.0
@@ -226,7 +226,7 @@ def true_hull(pts: list[tuple[int, ...]]) -> TrueHull:
 
 @dataclass
 class ExactVerdict:
-    """What DESIGN.md says about one hull, decided exactly."""
+    """What docs/design.md says about one hull, decided exactly."""
 
     containment: bool
     convexity: bool | None  # None: decided by the checker's choice of interior point
@@ -444,7 +444,7 @@ def verdict3(points, faces, reference=None) -> ExactVerdict:
 def _settle(convex, ambiguous: int, notes: list[str]):
     """Convexity, or None when it rests on the choice of the interior point.
 
-    DESIGN.md asks for *one* interior point strictly below every face; a face whose
+    docs/design.md asks for *one* interior point strictly below every face; a face whose
     plane cuts the hull of the surface's vertices is below some interior points and
     above others, so whether it is reported depends on the checker's choice.  When
     such faces are the only possible convexity failure (and the degree test from an
@@ -626,7 +626,7 @@ def _finish(points, pts, faces, verts, manifold, convex, contained, mags, notes,
         )
         if reference is not None and reference.ok:
             # Agreement with the witness, judged only when the witness itself passes the
-            # exact checks (README, qhull_agreement: "qhull-wrong" is never charged): the
+            # exact checks (docs/results-table.md, qhull_agreement: "qhull-wrong" is never charged): the
             # same extreme vertices (coordinates), and the volume within 10 DISTround times
             # Qhull's area.  Both volumes are exact, so the tolerance has no slack for
             # float sums (checker/qhull.py, volume_tolerance).
@@ -700,7 +700,7 @@ def exact_verdict(points, faces, *, qhull: bool = True) -> ExactVerdict:
 
     With ``qhull``, the Qhull agreement is judged against :func:`qhull_witness`.
     Lower-dimensional input (exact affine rank below the dimension) is judged by
-    :func:`lowdim_verdict` (README, "Lower-dimensional input"), without Qhull.
+    :func:`lowdim_verdict` (docs/lower-dimensional.md), without Qhull.
     """
     pts, _ = to_integers(points)
     if affine_rank(sorted(set(pts))) < len(pts[0]):
@@ -713,7 +713,7 @@ def exact_verdict(points, faces, *, qhull: bool = True) -> ExactVerdict:
 
 # --------------------------------------------------------------------------- lower-dimensional input
 #
-# README "Lower-dimensional input", decided the plain way: a point, a segment or a flat
+# docs/lower-dimensional.md, decided the plain way: a point, a segment or a flat
 # polygon is the hull; identical coordinates are one point.  An answer is a vertex cycle
 # (2D, or one 3D face for a point or a segment; a 3D face and its reverse count as that
 # face) that walks around the hull: every extreme point, no point twice, and in between
@@ -860,7 +860,7 @@ def lowdim_verdict(points, faces) -> ExactVerdict:
     mags = {}
     if missing and used:
         # How far the hull reaches beyond the answer: a missing extreme point's distance
-        # to the nearest point the answer uses (the README's "how far").
+        # to the nearest point the answer uses.
         far = max(min(dot(sub(m, u), sub(m, u)) for u in used) for m in missing)
         mags["outside"] = _sqrt_ratio(Fraction(far), dr)
     elif missing:

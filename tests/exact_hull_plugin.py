@@ -1,7 +1,7 @@
 """A test plug-in: an exactly-correct 2D hull in rational arithmetic, registered as ``exact-rational-2d``.
 
 Andrew's monotone chain on :class:`fractions.Fraction` coordinates, so every
-orientation test is exact.  It returns the README's lower-dimensional answers
+orientation test is exact.  It returns the lower-dimensional answers of docs/lower-dimensional.md
 ("Lower-dimensional input"): ``[]`` for no points, one index for a set of
 identical points, the two extreme endpoints for a collinear set; and it
 raises ``ValueError`` on what has no hull (NaN, infinity, a wrong shape).  It
@@ -44,7 +44,7 @@ def exact_rational_2d(points: np.ndarray, /) -> list[int]:
     -------
     list of int
         The extreme points counter-clockwise from the lexicographically
-        smallest; for lower-dimensional input the README's answer.
+        smallest; for lower-dimensional input the answer of docs/lower-dimensional.md.
 
     Raises
     ------

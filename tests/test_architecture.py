@@ -1,4 +1,4 @@
-"""The seams between stages, as the README's "How it works" describes them.
+"""The seams between stages, as docs/design.md ("The flow") describes them.
 
 The report stage reads records and writes files: nothing under
 ``hullstress/report/`` may import a module that runs code under test (the

@@ -248,7 +248,7 @@ def test_locally_convex_double_cover_is_caught():
 
 
 def test_flat_input_with_a_surface():
-    # Coplanar 3D input: the hull is a flat polygon (README "Lower-dimensional input").  Qhull's
+    # Coplanar 3D input: the hull is a flat polygon (docs/lower-dimensional.md).  Qhull's
     # joggled hull of it is a two-sided triangulation of that polygon, a correct answer; with one
     # face less it has a hole; a triangle and its reverse miss most of the polygon.
     pts = np.c_[np.random.default_rng(2).random((30, 2)), np.zeros(30)]

@@ -1,9 +1,9 @@
 """The checker's verdict-deciding helpers, pinned where the mutation run found them loose.
 
 Each test here was written against mutants of ``hullstress/checker/`` that
-survived the rest of the fast suite (``tools/mutation.sh``, README "Mutation
+survived the rest of the fast suite (``tools/mutation.sh``, docs/testing.md "Mutation
 testing").  Every expectation comes from the documented behaviour (the module
-docstrings, DESIGN.md's verdict semantics) or from an independent exact
+docstrings, docs/design.md's verdict semantics) or from an independent exact
 computation, never from the checker's own output.
 """
 

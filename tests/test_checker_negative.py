@@ -1,7 +1,7 @@
 """The negative corpus: minimally wrong hulls, one defect each, and their minimally right twins.
 
 ``tests/data/negative/<kind>.json`` (written by ``tools/make_negative_corpus.py``)
-holds, per check of DESIGN.md's verdict semantics, hulls with exactly one
+holds, per check of docs/design.md's verdict semantics, hulls with exactly one
 defect (a point one ulp outside a face, a polygon face one ulp out of plane,
 a repeated face, two indices with the same coordinates, a surface wrapping
 twice, ...) and the same constructions one ulp on the allowed side: over 2D
@@ -53,7 +53,7 @@ def _params(entries) -> list:
 
 
 def test_every_check_has_wrong_and_right_entries():
-    # Every check of DESIGN.md fails in some entry; every kind has minimally right twins
+    # Every check of docs/design.md fails in some entry; every kind has minimally right twins
     # (the manifoldness defects are combinatorial: their twins are the valid shapes of the
     # other kinds).
     failed = {c for e in ENTRIES for c in e["expect"]["failed"]}

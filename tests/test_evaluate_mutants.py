@@ -2,7 +2,7 @@
 
 ``tools/mutation.sh 'hullstress.evaluate.*'`` planted one change at a time
 in :mod:`hullstress.evaluate` (the module that decides a row's status and
-stage from a call's outcome, README "The results table" and DESIGN.md's
+stage from a call's outcome, docs/results-table.md and docs/design.md's
 status rules); these tests kill the ones the stage tests let through: every
 outcome kind with sphere on and off, the columns every row carries, the
 invalid-input and degenerate rules, the case facts, and the two caches

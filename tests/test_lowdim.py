@@ -1,4 +1,4 @@
-"""The exact judge of lower-dimensional answers (README "Lower-dimensional input")."""
+"""The exact judge of lower-dimensional answers (docs/lower-dimensional.md)."""
 
 from __future__ import annotations
 

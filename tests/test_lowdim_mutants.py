@@ -1,4 +1,4 @@
-"""The lower-dimensional judge's full verdict, field by field (README "Lower-dimensional input").
+"""The lower-dimensional judge's full verdict, field by field (docs/lower-dimensional.md).
 
 tests/test_lowdim.py asks which check fails; these tests pin what a user reads
 besides: the offending indices under their documented keys
@@ -147,7 +147,7 @@ def test_a_boundary_through_an_inner_point_on_both_sides():
     # its boundary runs 2 -> 6 -> 3, off the hull edge 2-3.  The reversed fan is the other side, same fault.
     ccw = [[0, 1, 2], [0, 2, 6], [0, 6, 3]]
     v = _judge(_square([1.0, 1.5]), ccw + [f[::-1] for f in ccw])
-    # A side that leaves part of the polygon uncovered has a hole (README): manifoldness, gross.
+    # A side that leaves part of the polygon uncovered has a hole (docs/lower-dimensional.md): manifoldness, gross.
     assert v.failed_checks == ("manifoldness",) and v.severity == "gross", v.detail
     assert v.offending == {"misordered_vertices": (6,)}
     assert v.n_nonconvex_edges == 2  # one misplaced point per side

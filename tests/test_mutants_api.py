@@ -1,9 +1,9 @@
 """``hullstress/checker/api.py`` (the ``check`` entry point) pinned where the mutation run found it loose.
 
 Each test here was written against mutants of ``api.py`` that survived the
-rest of the fast suite (``tools/mutation.sh``, README "Mutation testing").
+rest of the fast suite (``tools/mutation.sh``, docs/testing.md "Mutation testing").
 Every expectation comes from the documented behaviour (``check``'s
-docstring, DESIGN.md's verdict semantics, the severity and DISTround
+docstring, docs/design.md's verdict semantics, the severity and DISTround
 formulas as documented) or is worked out by hand in integers or Fractions,
 never from the checker's own output.
 """

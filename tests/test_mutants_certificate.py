@@ -1,11 +1,11 @@
 """The certificate record and its corners (``hullstress/checker/certificate.py``), pinned where the mutation run found them loose.
 
 Each test here was written against mutants of ``hullstress/checker/certificate.py``
-that survived the rest of the fast suite (``tools/mutation.sh``, README "Mutation
+that survived the rest of the fast suite (``tools/mutation.sh``, docs/testing.md "Mutation
 testing").  Every expectation comes from the documented behaviour (the
 docstrings: a vertex with no sharp edge is inside a flat region, one with
 exactly two collinear sharp edges on either side is inside an edge, a corner
-has at least three; DESIGN.md's verdict semantics) or from the geometry worked
+has at least three; docs/design.md's verdict semantics) or from the geometry worked
 out by hand, never from the checker's own output.
 """
 

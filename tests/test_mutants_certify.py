@@ -2,8 +2,8 @@
 
 Each test here was written against mutants of ``hullstress/checker/certify.py``
 that survived the rest of the fast suite (``tools/mutation.sh
-'hullstress.checker.certify.*'``, README "Mutation testing").  Every expectation
-comes from the documented behaviour (the certificate's fields, DESIGN.md's
+'hullstress.checker.certify.*'``, docs/testing.md "Mutation testing").  Every expectation
+comes from the documented behaviour (the certificate's fields, docs/design.md's
 verdict semantics) worked out by hand on small integer polytopes, never from the
 checker's own output.
 """

@@ -1,7 +1,7 @@
 """The batched certificate (``hullstress/checker/closed_mesh.py``), pinned where the mutation run found it loose.
 
 Each test here was written against mutants of ``hullstress/checker/closed_mesh.py``
-that survived the rest of the fast suite (``tools/mutation.sh``, README "Mutation
+that survived the rest of the fast suite (``tools/mutation.sh``, docs/testing.md "Mutation
 testing").  Every expectation comes from the documented behaviour (the module
 docstring: the path concludes "certified" only for a closed convex surface that
 wraps once around the vertices' mean, and then with the certificate the general
@@ -172,7 +172,7 @@ _SQUARE = [(2, -2), (2, 2), (-2, 2), (-2, -2)]
 @pytest.mark.parametrize("q", _polygon_rays(_SQUARE))
 @pytest.mark.parametrize("kind", ["doubled corner", "run twice"])
 def test_a_polygon_repeating_a_coordinate_is_declined(monkeypatch, q, kind):
-    # Repeated coordinates under distinct indices (not simple, DESIGN.md): a corner given
+    # Repeated coordinates under distinct indices (not simple, docs/design.md): a corner given
     # twice in a row (an edge of zero length, on whose line the mean lies), or the square run
     # twice (every turn left and the mean strictly left of every edge, but winding twice).
     ring = _SQUARE[:1] + _SQUARE if kind == "doubled corner" else _SQUARE * 2

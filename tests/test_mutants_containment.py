@@ -2,7 +2,7 @@
 
 Each test here was written against mutants of ``containment.py`` that survived the
 rest of the fast suite (``tools/mutation.sh 'hullstress.checker.containment.*'``,
-README "Mutation testing").  Both exact strategies are reached: brute force (at most
+docs/testing.md "Mutation testing").  Both exact strategies are reached: brute force (at most
 ``_SMALL`` point-facet entries, no centre, or a surface not certified) and the cones
 around a certified centre (2D: the angular search), with points exactly on, one ulp
 inside and one ulp outside facets, at unit, ~1e-300 and ~1e300 scales.  Every

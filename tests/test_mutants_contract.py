@@ -1,9 +1,9 @@
 """``hullstress/contract.py`` (output normalisation) pinned where the mutation run found it loose.
 
 Each test here was written against mutants of ``contract.py`` that survived
-the rest of the fast suite (``tools/mutation.sh``, README "Mutation
-testing").  Every expectation comes from the documented contract (README
-"Testing your own hull code", DESIGN.md "Outputs are canonicalised", the
+the rest of the fast suite (``tools/mutation.sh``, docs/testing.md "Mutation
+testing").  Every expectation comes from the documented contract (docs/own-code.md
+"Testing your own hull code", docs/design.md "Outputs are canonicalised", the
 module's docstrings) or is worked out by hand or by brute force, never from
 the module's own output.
 """

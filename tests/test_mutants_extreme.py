@@ -1,7 +1,7 @@
 """Exact extreme points and coordinate sets (``hullstress/checker/extreme.py``), pinned where the mutation run found them loose.
 
 Each test here was written against mutants of ``hullstress/checker/extreme.py``
-that survived the rest of the fast suite (``tools/mutation.sh``, README "Mutation
+that survived the rest of the fast suite (``tools/mutation.sh``, docs/testing.md "Mutation
 testing").  Every expectation comes from the documented behaviour (the module's
 docstrings) or from an independent exact computation in integers or Fractions,
 never from the checker's own output.

@@ -1,9 +1,9 @@
 """``hullstress/checker/_geometry.py`` pinned where the mutation run found it loose.
 
 Each test here was written against mutants of ``_geometry.py`` that survived
-the rest of the fast suite (``tools/mutation.sh``, README "Mutation
+the rest of the fast suite (``tools/mutation.sh``, docs/testing.md "Mutation
 testing").  Every expectation comes from the documented behaviour (the
-docstrings, DESIGN.md's verdict semantics) or is worked out by hand in
+docstrings, docs/design.md's verdict semantics) or is worked out by hand in
 integers or Fractions, never from the checker's own output.
 """
 

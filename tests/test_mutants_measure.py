@@ -1,7 +1,7 @@
 """Volumes, areas and their comparison (``hullstress/checker/measure.py``), pinned where the mutation run found them loose.
 
 Each test here was written against mutants of ``hullstress/checker/measure.py``
-that survived the rest of the fast suite (``tools/mutation.sh``, README "Mutation
+that survived the rest of the fast suite (``tools/mutation.sh``, docs/testing.md "Mutation
 testing").  Every expectation comes from the documented behaviour (the module
 docstring: an exact sum, a recorded value that is a function of the face set
 only, an exact comparison) or from an independent exact computation with

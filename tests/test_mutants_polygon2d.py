@@ -1,9 +1,9 @@
 """The 2D polygon checks (``hullstress/checker/polygon2d.py``), pinned where the mutation run found them loose.
 
 Each test here was written against mutants of ``hullstress/checker/polygon2d.py``
-that survived the rest of the fast suite (``tools/mutation.sh``, README "Mutation
+that survived the rest of the fast suite (``tools/mutation.sh``, docs/testing.md "Mutation
 testing").  Every expectation comes from the documented behaviour (the module
-docstring, DESIGN.md's verdict semantics) or from an independent exact
+docstring, docs/design.md's verdict semantics) or from an independent exact
 computation in integers or Fractions, never from the checker's own output.
 
 The interior point of a polygon that is not certified by its vertex mean is

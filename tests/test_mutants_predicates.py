@@ -2,7 +2,7 @@
 
 Each test here was written against mutants of ``hullstress/checker/predicates.py``
 that survived the rest of the fast suite (``tools/mutation.sh
-'hullstress.checker.predicates.*'``, README "Mutation testing").  Every expected
+'hullstress.checker.predicates.*'``, docs/testing.md "Mutation testing").  Every expected
 sign or value is derived by hand from the geometry (points on a known plane or
 line, whose determinant is a known multiple of one coordinate) or computed
 independently with ``fractions.Fraction`` from the doubles given; never copied

@@ -1,9 +1,9 @@
 """Qhull as a witness (``hullstress/checker/qhull.py``), pinned where the mutation run found it loose.
 
 Each test here was written against mutants of ``hullstress/checker/qhull.py``
-that survived the rest of the fast suite (``tools/mutation.sh``, README "Mutation
+that survived the rest of the fast suite (``tools/mutation.sh``, docs/testing.md "Mutation
 testing").  Every expectation comes from the documented behaviour (the module
-and field docstrings, DESIGN.md's "qhull agreement") or from the geometry
+and field docstrings, docs/design.md's "qhull agreement") or from the geometry
 worked out by hand (extreme sets, volumes and areas of boxes and tetrahedra,
 Fractions), never from the checker's own output.
 """

@@ -1,7 +1,7 @@
 """The exact affine rank and witness simplex (``hullstress/checker/rank.py``), pinned where the mutation run found them loose.
 
 Each test here was written against mutants of ``hullstress/checker/rank.py`` that
-survived the rest of the fast suite (``tools/mutation.sh``, README "Mutation
+survived the rest of the fast suite (``tools/mutation.sh``, docs/testing.md "Mutation
 testing").  Every expectation comes from the documented behaviour (the module's
 docstrings: the rank is exact, the witness simplex's choice is "far points
 first") or from an independent exact computation in integers or Fractions,

@@ -1,10 +1,10 @@
 """``hullstress/checker/topology.py`` pinned where the mutation run found it loose.
 
 Each test here was written against mutants of ``topology.py`` that survived
-the rest of the fast suite (``tools/mutation.sh``, README "Mutation
+the rest of the fast suite (``tools/mutation.sh``, docs/testing.md "Mutation
 testing").  Every expectation comes from the documented behaviour (the
 ``HalfEdges`` attributes, the module docstring's manifoldness conditions,
-DESIGN.md's verdict semantics) or is worked out by hand from the faces,
+docs/design.md's verdict semantics) or is worked out by hand from the faces,
 never from the checker's own output.
 """
 

@@ -1,7 +1,7 @@
 """The wrap number (``hullstress/checker/wrap.py``), pinned where the mutation run found it loose.
 
 Each test here was written against mutants of ``hullstress/checker/wrap.py`` that
-survived the rest of the fast suite (``tools/mutation.sh``, README "Mutation
+survived the rest of the fast suite (``tools/mutation.sh``, docs/testing.md "Mutation
 testing").  Every expectation comes from the documented behaviour (the module
 docstring: a convex surface wraps once, a surface covering the sphere of
 directions k times wraps k times, whatever the ray; a zero orientation is

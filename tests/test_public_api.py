@@ -1,4 +1,4 @@
-"""The public surface: ``__all__``, the registries and the README agree; the README's plug-in example runs as printed."""
+"""The public surface: ``__all__``, the registries and the docs agree; the README's plug-in example runs as printed."""
 
 import os
 import re
@@ -13,6 +13,7 @@ from hullstress._registry import algorithms, generators
 
 ROOT = Path(__file__).resolve().parents[1]
 README = (ROOT / "README.md").read_text(encoding="utf-8")
+DOCS = ROOT / "docs"
 
 
 def _block_after(marker: str) -> str:
@@ -30,19 +31,20 @@ def test_all_names_exist_and_are_exported():
         assert name in hullstress.__all__
 
 
-def _readme_table_names(header: str) -> set[str]:
-    section = README.split(header, 1)[1].split("\n## ", 1)[0]
-    return set(re.findall(r"^\| `([A-Za-z0-9-]+)` \|", section, re.M))
+def _page_table_names(page: str) -> set[str]:
+    """The names in the first column of the tables of ``docs/<page>``."""
+    text = (DOCS / page).read_text(encoding="utf-8")
+    return set(re.findall(r"^\| `([A-Za-z0-9-]+)` \|", text, re.M))
 
 
-def test_readme_lists_every_registered_algorithm_and_nothing_else():
+def test_docs_list_every_registered_algorithm_and_nothing_else():
     registered = {s.name for s in algorithms() if s.origin in ("in-house", "adapter")}
-    assert _readme_table_names("## Algorithms and variants") == registered
+    assert _page_table_names("algorithms.md") == registered
 
 
-def test_readme_lists_every_generator_family_and_nothing_else():
+def test_docs_list_every_generator_family_and_nothing_else():
     built_in = {g.name for g in generators() if g.func.__module__.split(".")[0] == "generators"}
-    assert _readme_table_names("## Generator families") == built_in
+    assert _page_table_names("generators.md") == built_in
 
 
 def test_readme_quick_start_has_exactly_the_two_commands():
@@ -68,10 +70,10 @@ def test_readme_plugin_example_runs_exactly_as_printed(tmp_path):
     assert len(uniform) > 0 and set(uniform["status"]) == {"pass"}
 
 
-def test_readme_results_table_names_every_column():
+def test_docs_results_table_names_every_column():
     from hullstress.results import ROW_COLUMNS
 
-    section = README.split("## The results table", 1)[1].split("\n## ", 1)[0]
+    section = (DOCS / "results-table.md").read_text(encoding="utf-8")
     named = set(re.findall(r"`([a-z_]+)`", "\n".join(line.split("|")[1] for line in section.splitlines()
                                                        if line.startswith("| `"))))
     assert set(ROW_COLUMNS) <= named, sorted(set(ROW_COLUMNS) - named)

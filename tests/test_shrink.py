@@ -225,7 +225,7 @@ def test_invalid_input_failures_reproduce_through_the_raw_npy_command(plugin, tm
     case = Case(points=pts, dim=2, family="test-nan", seed=0)
     config = AlgorithmConfig("test-shrink-nan-blind")
     result = shrink(case, config, timeout=30)
-    # A hull for non-finite input is accepted unchecked (README); an index out of range is not.
+    # A hull for non-finite input is accepted unchecked (docs/lower-dimensional.md); an index out of range is not.
     assert result.signature.check == "contract"
     assert result.minimal_size == 4 and np.isnan(result.case.points).any()  # 3 finite points make a hull
     rec = write_failure_folder(tmp_path / "failures", triage_one(result, config), plugins=[str(plugin)], picture=True)
@@ -260,7 +260,7 @@ def _in_house_groups():
 
 
 def _shrinks_less(signature) -> str | None:
-    """Why a group may keep more than 10 points (README "From failures to causes"), or None."""
+    """Why a group may keep more than 10 points (docs/triage.md), or None."""
     if signature.sphere == "on":
         return "sphere on: the projection's centre and scale depend on every point, so a deletion moves the rest"
     if signature.error == "AlgorithmStepLimit":

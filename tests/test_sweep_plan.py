@@ -119,7 +119,7 @@ def test_transformed_copies_are_compared_with_their_originals(tmp_path):
 
 @pytest.mark.parametrize("profile, seconds", [("quick", 2.0), ("nightly", 30.0)])
 def test_the_per_call_timeout_is_the_profiles_unless_given(profile, seconds):
-    # README: `--timeout SECONDS` (per call; the profile's by default: 2 s quick, 30 s nightly).
+    # docs/commands.md: `--timeout SECONDS` (per call; the profile's by default: 2 s quick, 30 s nightly).
     assert PROFILES[profile].timeout == seconds
     assert SweepOptions(profile=profile).runner_options().timeout == seconds
     assert SweepOptions(profile=profile, timeout=0.5).runner_options().timeout == 0.5

@@ -133,7 +133,7 @@ def add(kind: str, id: str, points, faces, failed, about: str, reason=(), *, sev
     if not qhull:
         entry["qhull"] = False
     if e.convexity is None:
-        # A face plane cuts the surface's vertices: DESIGN.md's "one interior point below
+        # A face plane cuts the surface's vertices: docs/design.md's "one interior point below
         # every facet" holds for some interior points and not others, so convexity is
         # the checker's choice here and not part of the expectation.
         expect["undecided"] = ["convexity"]
@@ -610,7 +610,7 @@ def crashes():
 
 
 def affine_rank():
-    """Flat inputs (README, "Lower-dimensional input"), in oblique planes and along oblique lines.
+    """Flat inputs (docs/lower-dimensional.md), in oblique planes and along oblique lines.
 
     The right answers (a flat polygon on one side or both, a triangulation or a closed
     pillow, a segment walked out and back, a face and its reverse) pass; each wrong one

@@ -61,7 +61,7 @@ Hull Algorithm").  The code follows its numbered lists.
   which is what the name "angle" asks for.  ``B`` is put first (its value is
   0/0) and the rest sorted ascending (stable; points equal to ``B``, NaN,
   last): ``B, ..., A`` for every convex face, whatever its angles.  The
-  README's findings compare the two.
+  docs/findings.md compares the two.
 * Steps 11-12: for each perimeter edge ``E = (P1, P2)`` (consecutive points,
   cyclically), with ``ER = (P2, P1)``: if ``ER`` is in the edge list, one copy
   of ``E`` is removed from the to-do list if present; otherwise ``E`` is

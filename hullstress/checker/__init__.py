@@ -1,4 +1,4 @@
-"""The exact checker: the judge of every hull (DESIGN.md "Verdict semantics").
+"""The exact checker: the judge of every hull (docs/design.md "Verdict semantics").
 
 Public entry points:
 

@@ -230,7 +230,7 @@ def check(
         if built.simplex is not None and len(built.simplex) - 1 >= dim:
             reference = built
     lower = verdict_if_degenerate(pts, faces, reference=reference, max_offending=max_offending)
-    if lower is not None:  # a point, a segment or a flat polygon: README "Lower-dimensional input"
+    if lower is not None:  # a point, a segment or a flat polygon: docs/lower-dimensional.md
         return lower
     normalised = _normalise(faces, n, dim)
     if reference is None and qhull:

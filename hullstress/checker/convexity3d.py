@@ -1,4 +1,4 @@
-"""Convexity of a 3D surface, decided with exact predicates (DESIGN.md "Verdict semantics").
+"""Convexity of a 3D surface, decided with exact predicates (docs/design.md "Verdict semantics").
 
 A surface is convex when
 
@@ -256,7 +256,7 @@ def check_convexity3d(
     closed: bool,
     seed: int = 0,
 ) -> Convexity3D:
-    """Check DESIGN.md's convexity for a 3D surface.
+    """Check docs/design.md's convexity for a 3D surface.
 
     Parameters
     ----------

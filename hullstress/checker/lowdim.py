@@ -3,7 +3,7 @@
 When the input's exact affine rank is below its dimension (all points equal,
 collinear in 2D or 3D, coplanar in 3D, fewer than d+1 distinct points), its
 convex hull is a point, a segment or a flat polygon, and no closed surface of
-positive volume is right.  README.md ("Lower-dimensional input") states which
+positive volume is right.  docs/lower-dimensional.md states which
 outputs are correct; this module decides them exactly:
 
 * **The exact answer.**  Rank 0: the one point.  Rank 1: the two extreme

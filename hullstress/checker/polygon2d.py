@@ -1,6 +1,6 @@
 """Convexity, manifoldness and vertex classification of a 2D hull (a polygon), exactly.
 
-Manifoldness (DESIGN.md): a simple closed counter-clockwise polygon without
+Manifoldness (docs/design.md): a simple closed counter-clockwise polygon without
 repeated vertices: at least three vertices, no repeated index, no repeated
 coordinates, no two edges meeting except consecutive edges at their shared
 vertex (and those not overlapping), positive signed area (exact).

@@ -1,6 +1,6 @@
 """Exact affine rank of a point set, and a witness simplex.
 
-The rank decides the sweep's ``rejected`` rule (DESIGN.md: an affinely
+The rank decides the sweep's ``rejected`` rule (docs/design.md: an affinely
 degenerate case may be declined) and gives the checker its interior point: the
 centroid of a non-degenerate simplex of input points lies strictly inside the
 convex hull of the input.

@@ -1,4 +1,4 @@
-"""Manifoldness of a 3D surface: DESIGN.md's closed, oriented, genus-0 condition.
+"""Manifoldness of a 3D surface: docs/design.md's closed, oriented, genus-0 condition.
 
 A surface passes when
 
@@ -236,7 +236,7 @@ def _closed_triangle_mesh(
 def check_topology(
     points: np.ndarray, faces: FaceSet, *, he: HalfEdges | None = None, measure: Measure | None = None
 ) -> Topology:
-    """Check DESIGN.md's manifoldness for a 3D surface.
+    """Check docs/design.md's manifoldness for a 3D surface.
 
     Parameters
     ----------

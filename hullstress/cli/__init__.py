@@ -1,6 +1,6 @@
 """The command line: ``python -m hullstress <subcommand>``.
 
-Exit status (every command; DESIGN.md, :class:`hullstress.errors.ExitStatus`):
+Exit status (every command; docs/design.md, :class:`hullstress.errors.ExitStatus`):
 
 ===  =======================================================================
 0    nothing (new) failed
