@@ -423,7 +423,23 @@ def _method_problem(facts: CaseFacts, given: CaseFacts) -> str:
 
 
 def judge(case: Case, config: AlgorithmConfig, outcome: CallOutcome, facts: CaseFacts) -> ResultRow:
-    """Turn a call's outcome into a table row, applying DESIGN.md's status rules per stage."""
+    """Turn a call's outcome into a table row: DESIGN.md's status rules per stage, then the declared contract.
+
+    The contract (:mod:`hullstress.hull_contract`) can only add failures to
+    what the rules and the exact checker found (:mod:`hullstress.contract_verdict`).
+    """
+    from .contract_verdict import apply_contract
+
+    row = _judge_by_rules(case, config, outcome, facts)
+    try:
+        contract = config.spec.contract
+    except Exception:  # an algorithm from a plug-in not loaded here: judged by the rules alone
+        return row
+    return apply_contract(row, contract, outcome.faces, degenerate=bool(facts.degenerate))
+
+
+def _judge_by_rules(case: Case, config: AlgorithmConfig, outcome: CallOutcome, facts: CaseFacts) -> ResultRow:
+    """A call's outcome as a table row under DESIGN.md's status rules per stage (the lenient judgement)."""
     common = dict(seconds=outcome.seconds, eps_value=outcome.eps_value,
                   degenerate=facts.degenerate, invalid_input=facts.invalid_input)
     sphere = config.sphere == Sphere.ON
