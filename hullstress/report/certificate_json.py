@@ -15,6 +15,7 @@ reflex              an edge whose neighbour face's vertex lies    convexity
 reflex-vertex       a clockwise turn of the polygon (2D)          convexity
 non-planar          four vertices of one face not coplanar        convexity
 non-convex          two turns of one face in opposite senses      convexity
+zero-area           a face whose distinct vertices are collinear  convexity
 signed-area/volume  the exact signed measure is not positive      convexity
 repeated-vertex     a vertex twice in one face (polygon)          convexity
 coincident          two vertices of one face at the same point    convexity, manifoldness
@@ -56,7 +57,7 @@ WITNESS_CHECKS = {
     "non-convex": "convexity", "signed-area": "convexity", "signed-volume": "convexity",
     "repeated-vertex": "convexity", "coincident": "convexity,manifoldness", "edge-count": "manifoldness", "edge-direction": "manifoldness",
     "missing-extreme": "qhull_agreement,containment", "not-extreme": "extreme_only", "face-size": "face_shape",
-    "flat": "flat_input", "backtrack": "convexity",
+    "flat": "flat_input", "backtrack": "convexity", "zero-area": "convexity",
 }
 _PER_KIND = 3
 #: (point, face) pairs held at once by a scan.
@@ -202,6 +203,10 @@ def _witnesses_3d(P: list[Vec], pts: np.ndarray, faces: list[list[int]], hints: 
         dup = [v for v in set(face) if face.count(v) > 1]
         if dup and _count(out, "repeated-vertex") < _PER_KIND:
             out.append({"kind": "repeated-vertex", "face": f, "vertex": dup[0]})
+        if len(face) >= 3 and len({tuple(P[v]) for v in face}) == len(face) and _count(out, "zero-area") < _PER_KIND:
+            d0 = _sub(P[face[1]], P[face[0]])
+            if all(not any(_cross(d0, _sub(P[v], P[face[0]]))) for v in face[2:]):
+                out.append({"kind": "zero-area", "face": f})
         if len(face) > 3 and _count(out, "non-planar") < _PER_KIND:
             for i in range(3, len(face)):
                 s = _orient(P, [face[0], face[1], face[2], face[i]])

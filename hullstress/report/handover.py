@@ -165,6 +165,8 @@ def _words(w: dict[str, Any], points: np.ndarray) -> str:
         return f"vertex {w['vertex']} is not an extreme point: it equals {parts}"
     if k == "coincident":
         return f"vertices {w['vertices'][0]} and {w['vertices'][1]} of face {w['face']} are the same point (a zero-length edge)"
+    if k == "zero-area":
+        return f"face {w['face']} has no area: its distinct vertices lie on one line (exactly)"
     if k == "backtrack":
         return (f"on collinear input the output turns back at vertex {w['vertices'][1]}, which lies strictly "
                 "inside the hull segment, so the walk is not the segment's boundary")

@@ -156,6 +156,11 @@ def check(w, P, faces, dim):
         ok = (any(v in f for f in faces) and sum(lam for _, lam in combo) == 1
               and all(0 <= lam < 1 for _, lam in combo) and sums == P[v])
         return ok, "vertex %d is a convex combination of other points" % v
+    if k == "zero-area":  # distinct vertices, all on one line: the face encloses nothing
+        f = faces[w["face"]]
+        d = sub(P[f[1]], P[f[0]])
+        ok = len(f) >= 3 and len({tuple(P[v]) for v in f}) == len(f)
+        return ok and all(not any(cross(d, sub(P[v], P[f[0]]))) for v in f[2:]), "face %d has no area" % w["face"]
     if k == "coincident":
         u, v = w["vertices"]
         f = faces[w["face"]]
