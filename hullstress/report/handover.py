@@ -18,6 +18,7 @@ from __future__ import annotations
 import json
 import platform
 import shutil
+import warnings
 from fractions import Fraction
 from pathlib import Path
 from typing import Any
@@ -73,35 +74,40 @@ def library_of(spec: Any) -> tuple[str, str]:
         return f"plug-in {module}", f"{module}.{getattr(spec.func, '__qualname__', '')}"
 
 
-def _given(case: Any, config: Any, row: Any) -> tuple[np.ndarray, float | None, Any, str]:
-    """The points the algorithm was given, its eps, its output on them (fail rows) and a note on the sphere.
+def _given(case: Any, config: Any, row: Any, recorded_faces: Any) -> tuple[np.ndarray, float | None, Any, str]:
+    """The points the algorithm was given, its eps, its output on them and a note on the sphere variant.
 
-    Nothing runs here for a crash or a timeout (the same call could bring this
-    process down or hang it): their repro gets the input and the recorded eps.
+    Nothing of the code under test runs here (the report stage runs no code):
+    with the sphere variant the projection is recomputed (hullstress's own,
+    deterministic method) and the recorded output, saved in input rows, is
+    turned back into rows of the projected points.
     """
-    from ..evaluate import PreprocessError, _preprocess, call_algorithm
+    from ..config import sphere_duplicate_policy
+    from ..sphere import sphere_project
+    from ..tolerance import tolerance
 
     recorded = row.get("eps_value")
     eps_value = float(recorded) if recorded is not None and recorded == recorded else None
-    points, faces, note = np.asarray(case.points), None, ""
-    if row.get("status") not in (Status.FAIL, Status.ERROR):
-        return points, eps_value, faces, note
-    if config.sphere == Sphere.ON and row.get("stage") == Stage.ALGORITHM:
-        try:
-            given, index_map, _ = _preprocess(case, config)
-        except PreprocessError:
-            given, index_map = points, None
-        if index_map is not None:
-            points = np.asarray(given)
-            note = ("# The sphere variant: the algorithm was given the input projected onto the unit sphere\n"
-                    "# (hullstress's sphere method); these are exactly those projected points.\n")
-    if row.get("status") == Status.FAIL:
-        outcome = call_algorithm(case, config)
-        if outcome.kind == "ok":
-            from ..triage.evidence import faces_to_json
-
-            faces = faces_to_json(outcome.given_faces if note else outcome.faces)
-    return points, eps_value, faces, note
+    points = np.asarray(case.points)
+    if not (config.sphere == Sphere.ON and row.get("stage") == Stage.ALGORITHM
+            and row.get("status") in (Status.FAIL, Status.ERROR)):
+        return points, eps_value, recorded_faces, ""
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            given, index_map = sphere_project(points, eps=tolerance(points, sphere_duplicate_policy(config.eps)))
+    except Exception:  # the method's own refusal was the row's error: the input is what the algorithm never got
+        return points, eps_value, recorded_faces, ""
+    note = ("# The sphere variant: the algorithm was given the input projected onto the unit sphere\n"
+            "# (hullstress's sphere method); these are exactly those projected points.\n")
+    if recorded_faces is None:
+        return np.asarray(given), eps_value, None, note
+    row_of = {int(r): i for i, r in enumerate(np.asarray(index_map).tolist())}
+    if case.dim == 2:
+        faces = [row_of[int(v)] for v in recorded_faces]
+    else:
+        faces = [[row_of[int(v)] for v in f] for f in recorded_faces]
+    return np.asarray(given), eps_value, faces, note
 
 
 def _exact_hull_vertices(points: np.ndarray, dim: int) -> list[int] | None:
@@ -272,11 +278,9 @@ def write_handover(folder: Path, record: Any) -> dict[str, Any]:
     except Exception:  # an algorithm from a plug-in not loaded in this process
         spec = None
     status = str(row.get("status", record.signature.status))
-    points, eps_value, faces, note = _given(case, config, row) if spec is not None else (
-        np.asarray(case.points), None, None, "")
+    recorded_faces = record.faces if status == Status.FAIL else None
+    points, eps_value, faces, note = _given(case, config, row, recorded_faces)
     sphere_given = bool(note)
-    if status == Status.FAIL and faces is None and not sphere_given:
-        faces = record.faces
     failed = [c for c in str(row.get("failed_checks") or "").split(",") if c]
     if status != Status.FAIL or faces is None or not np.isfinite(points).all() or points.ndim != 2:
         why = row.get("reason") or record.faces_note or status
