@@ -111,7 +111,14 @@ def _given(case: Any, config: Any, row: Any, recorded_faces: Any) -> tuple[np.nd
 
 
 def _exact_hull_vertices(points: np.ndarray, dim: int) -> list[int] | None:
-    from .certificate_json import _extreme_3d, _hull_2d, _separates
+    """Indices of the exact extreme points (one per distinct point), or None when not certified.
+
+    2D: an exact monotone chain.  3D: Qhull's vertices when each is separated
+    exactly and no other point is above an exactly oriented Qhull facet;
+    otherwise, for small cases, a brute-force test of every point against the
+    tetrahedra of the others (Caratheodory).
+    """
+    from .certificate_json import _extreme_3d, _hull_2d, _normal, _separates
 
     if not np.isfinite(points).all() or points.ndim != 2 or len(points) == 0:
         return None
@@ -119,20 +126,56 @@ def _exact_hull_vertices(points: np.ndarray, dim: int) -> list[int] | None:
     if dim == 2:
         return _hull_2d(P)
     cand, tris = _extreme_3d(points, P)
-    if not cand:
-        return None
-    from .certificate_json import _normal
+    if cand and len(P) * len(tris) <= 200_000:
+        separated = all(_separates(P, p, _sum_normals(P, tris, p, _normal)) for p in cand)
+        inside = all(_dot3(_normal(P, t), [x - y for x, y in zip(P[q], P[t[0]])]) <= 0
+                     for t in tris for q in range(len(P)))
+        if separated and inside:
+            return sorted(cand)
+    return _extreme_brute_force(P) if len(P) <= 14 else None
 
-    verified = []
-    for p in cand:
-        c = [Fraction(0)] * 3
-        for t in tris:
-            if p in t:
-                c = [x + y for x, y in zip(c, _normal(P, t))]
-        if not _separates(P, p, c):
-            return None  # Qhull's vertex set is not exactly certified: say "unknown" rather than guess
-        verified.append(p)
-    return sorted(verified)
+
+def _dot3(a: list[Fraction], b: list[Fraction]) -> Fraction:
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def _sum_normals(P: list[list[Fraction]], tris: list[list[int]], p: int, normal: Any) -> list[Fraction]:
+    c = [Fraction(0)] * 3
+    for t in tris:
+        if p in t:
+            c = [x + y for x, y in zip(c, normal(P, t))]
+    return c
+
+
+def _extreme_brute_force(P: list[list[Fraction]]) -> list[int] | None:
+    """Exact extreme points of a small full-dimensional 3D set: those in no tetrahedron of the others."""
+    from itertools import combinations
+
+    firsts: dict[tuple[Fraction, ...], int] = {}
+    for i, p in enumerate(P):
+        firsts.setdefault(tuple(p), i)
+    ids = sorted(firsts.values())
+    out = []
+    for p in ids:
+        others = [i for i in ids if i != p]
+        if not any(_in_tetrahedron(P, p, quad) for quad in combinations(others, 4)):
+            out.append(p)
+    return out if len(out) >= 4 else None  # fewer: the set is flat, handled as such elsewhere
+
+
+def _in_tetrahedron(P: list[list[Fraction]], p: int, quad: tuple[int, ...]) -> bool:
+    a = P[quad[0]]
+    cols = [[x - y for x, y in zip(P[j], a)] for j in quad[1:]]
+    r = [x - y for x, y in zip(P[p], a)]
+
+    def det(c0: list[Fraction], c1: list[Fraction], c2: list[Fraction]) -> Fraction:
+        return _dot3(c0, [c1[1] * c2[2] - c1[2] * c2[1], c1[2] * c2[0] - c1[0] * c2[2], c1[0] * c2[1] - c1[1] * c2[0]])
+
+    d = det(*cols)
+    if d == 0:
+        return False
+    lam = [det(r, cols[1], cols[2]) / d, det(cols[0], r, cols[2]) / d, det(cols[0], cols[1], r) / d]
+    return min(lam) >= 0 and sum(lam) <= 1
 
 
 def _words(w: dict[str, Any], points: np.ndarray) -> str:
@@ -211,7 +254,7 @@ def _bug_report(*, spec: Any, row: Any, case: Any, points: np.ndarray, faces: An
              else "the input file exactly as the program read it on stdin")
     correct = ("unknown (no exactly certified hull)" if hull is None
                else f"the exact hull's vertices are the points {hull} "
-                    f"({'counter-clockwise' if case.dim == 2 else 'sorted'}; each verified extreme in exact arithmetic)")
+                    f"({'counter-clockwise' if case.dim == 2 else 'sorted'}; computed in exact arithmetic)")
     if faces is None:
         returned = "nothing (" + status + ")"
     else:

@@ -10,6 +10,7 @@ import ast
 import json
 import struct
 import sys
+from collections import Counter
 from fractions import Fraction as F
 from pathlib import Path
 
@@ -46,7 +47,7 @@ def read_points(folder, name):
         return [[q(x) for x in row] for row in json.loads(path.read_text())["points"]]
     if name.endswith(".csv"):
         rows = [ln.split(",") for ln in path.read_text().splitlines() if ln.strip() and not ln.startswith("#")]
-        return [[F(float(x)) for x in r] for r in rows if all(_num(x) for x in r)]
+        return [[F(float(x)) for x in r] for r in rows if not r[0].strip().isalpha()]  # skip a header line
     raw = path.read_bytes()  # .npy, little-endian float64, C order
     hlen = struct.unpack("<H", raw[8:10])[0]
     header = raw[10:10 + hlen].decode("latin1")
@@ -56,27 +57,12 @@ def read_points(folder, name):
     return [[F(v) for v in vals[i:i + cols]] for i in range(0, len(vals), cols)]
 
 
-def _num(x):
-    try:
-        float(x)
-        return True
-    except ValueError:
-        return False
-
-
 def cyc(face, a, b):  # b follows a in the cyclic face
     return any(face[i] == a and face[(i + 1) % len(face)] == b for i in range(len(face)))
 
 
-def edge_faces(faces, u, v):
-    return [k for k, f in enumerate(faces) if cyc(f, u, v) or cyc(f, v, u)]
-
-
-def closed(faces):
-    count = {}
-    for f in faces:
-        for i in range(len(f)):
-            count[(f[i], f[(i + 1) % len(f)])] = count.get((f[i], f[(i + 1) % len(f)]), 0) + 1
+def closed(faces):  # every directed edge once, and its reverse once
+    count = Counter((f[i], f[(i + 1) % len(f)]) for f in faces for i in range(len(f)))
     return all(n == 1 and count.get((b, a)) == 1 for (a, b), n in count.items())
 
 
@@ -105,7 +91,7 @@ def check(w, P, faces, dim):
         return cyc(f, a, b) and cyc(f, b, c) and s == w["orient"] == -1, "reflex turn at vertex %d" % b
     if k == "edge-count":
         u, v = w["edge"]
-        n = len(edge_faces(faces, u, v))
+        n = sum(1 for f in faces if cyc(f, u, v) or cyc(f, v, u))
         return n == w["count"] != 2, "edge %d-%d in %d faces" % (u, v, n)
     if k == "edge-direction":
         u, v = w["edge"]
