@@ -115,7 +115,7 @@ def _witnesses_2d(P: list[Vec], pts: np.ndarray, poly: list[int], hints: list[in
     k = len(poly)
     seen: dict[int, int] = {}
     for pos, v in enumerate(poly):
-        if v in seen and len([w for w in out if w["kind"] == "repeated-vertex"]) < _PER_KIND:
+        if v in seen and _count(out, "repeated-vertex") < _PER_KIND:
             out.append({"kind": "repeated-vertex", "vertex": v, "positions": [seen[v], pos]})
         seen.setdefault(v, pos)
     if k >= 3:
@@ -155,9 +155,9 @@ def _signed_area(P: list[Vec], poly: list[int]) -> Fraction:
 
 def _scan_order(hints: list[int], n: int, budget: int = 2000) -> list[int]:
     """The checker's offending points first, then the others, at most ``budget`` in all."""
-    first = [int(h) for h in hints if 0 <= int(h) < n]
-    rest = [i for i in range(n) if i not in set(first)]
-    return (first + rest)[:budget]
+    first = list(dict.fromkeys(int(h) for h in hints if 0 <= int(h) < n))
+    taken = set(first)
+    return (first + [i for i in range(min(n, budget + len(first))) if i not in taken])[:budget]
 
 
 def _hull_2d(P: list[Vec]) -> list[int]:
