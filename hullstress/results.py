@@ -92,6 +92,7 @@ def make_row(
     origin: str | None = None,
     call_output: str = "",
     error_frame: str = "",
+    contract: str | None = None,
 ) -> ResultRow:
     """Assemble a :class:`ResultRow` from its parts.
 
@@ -122,19 +123,22 @@ def make_row(
     error_frame : str
         For an exception: the innermost frame of the code under test that
         raised it (``module:line in function``).
+    contract : str, optional
+        The declared contract's label, for a process where the algorithm is
+        not registered (a runner's parent building a timeout or crash row);
+        by default the registered spec's.
     """
     if status not in STATUSES:
         raise ValueError(f"status must be one of {STATUSES}, got {status!r}")
     stage = Stage(stage)
-    contract = ""
     try:
         spec = config.spec
     except Exception:  # an algorithm from a plug-in not loaded here
         spec = None
     if origin is None:
         origin = spec.origin if spec is not None else "unknown"
-    if spec is not None:
-        contract = spec.contract.label  # the promise the row was judged against
+    if contract is None:
+        contract = spec.contract.label if spec is not None else ""  # the promise the row was judged against
     values: dict[str, Any] = {
         "case_id": case.case_id,
         "generator": case.family,

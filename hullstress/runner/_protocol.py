@@ -470,7 +470,7 @@ def run_job(job: Job, problems: Mapping[str, str] | None = None, *,
 
 def row_for(task: Task, k: int, *, status: str, reason: str, origin: str | None,
             facts_info: tuple[bool | None, str | None], seconds: float = 0.0,
-            check_seconds: float = 0.0, stage: Stage = Stage.ALGORITHM) -> ResultRow:
+            check_seconds: float = 0.0, stage: Stage = Stage.ALGORITHM, contract: str | None = None) -> ResultRow:
     """A row the parent builds itself (timeout, crash, limits), with the facts the worker reported.
 
     ``stage`` is ``check`` when the harness's own part (facts, checker) ran out
@@ -478,7 +478,8 @@ def row_for(task: Task, k: int, *, status: str, reason: str, origin: str | None,
     """
     degenerate, invalid = facts_info
     return make_row(task.case, task.configs[k], status=status, stage=stage, reason=reason, seconds=seconds,
-                    check_seconds=check_seconds, degenerate=degenerate, invalid_input=invalid, origin=origin)
+                    check_seconds=check_seconds, degenerate=degenerate, invalid_input=invalid, origin=origin,
+                    contract=contract)
 
 
 def emit_row(row: ResultRow, on_row: Callable[[ResultRow], None], stats: ExecutionStats) -> None:
