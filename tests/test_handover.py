@@ -208,6 +208,21 @@ def test_every_folder_has_the_maintainer_files(run_folder):
     assert strict and all("extreme_only" in f.name for f in strict)
     report = (strict[0] / "bug-report.md").read_text()
     assert "strict: only extreme points as vertices" in report and "python repro.py" in report
+    assert json.loads((strict[0] / "case.json").read_text())["contract"] == "strict"
+    html = next(run_folder.parent.glob("*.html")).read_text()
+    assert "declared contract" in html and "<code>strict</code>" in html
+
+
+def test_bad_contract_options_are_one_line_usage_errors(capsys):
+    from hullstress.cli import main
+
+    assert main(["run", "--contract", "monotone-chain=strictest"]) == 2
+    assert main(["run", "--contract", "strict"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == ["hullstress: error: contract 'strictest': 'strictest' is not one of lenient, strict nor "
+                   "KEY=VALUE (keys: vertices, orientation, faces, flat)",
+                   "hullstress: error: --contract 'strict': expected NAME=CONTRACT (e.g. my-hull=strict)"]
+    assert get_algorithm("monotone-chain").contract == LENIENT
 
 
 def test_the_verifier_accepts_every_certificate_of_the_run(run_folder):
