@@ -38,7 +38,7 @@ HANDOVER_FILES = ("certificate.json", "verify.py", "bug-report.md")
 _SHOWN = 40
 
 _DISTRIBUTIONS = {"scipy_qhull": ("scipy", "scipy.spatial.ConvexHull (Qhull)"),
-                  "shapely_geos": ("shapely", "shapely convex_hull (GEOS)"),
+                  "shapely_geos": ("shapely", "shapely.geometry.MultiPoint(points).convex_hull (GEOS)"),
                   "cgal_hull": ("cgal", "CGAL (cgal Python bindings)")}
 
 
@@ -182,6 +182,9 @@ def _words(w: dict[str, Any], points: np.ndarray) -> str:
     """One witness in a sentence."""
     k = w["kind"]
     at = lambda i: f"point {i} {points[i].tolist()}"  # noqa: E731
+    if k == "outside" and len(w["triangle"]) == 2:
+        return (f"{at(w['point'])} lies strictly outside the polygon's edge {w['triangle'][0]}->{w['triangle'][1]} "
+                f"(to its right: the exact orientation sign is {w['orient']:+d})")
     if k == "outside":
         return (f"{at(w['point'])} lies strictly outside face {w['face']} (vertices {w['triangle']}): "
                 f"the exact orientation sign is {w['orient']:+d}")
