@@ -19,6 +19,7 @@ from types import MappingProxyType
 from typing import Any, Generic, TypeVar
 
 from .errors import DuplicateNameError, UnknownNameError, UsageError
+from .hull_contract import LENIENT, HullContract, as_contract
 from .records import Origin
 
 __all__ = [
@@ -31,6 +32,7 @@ __all__ = [
     "register_generator",
     "register_executable",
     "set_clockwise",
+    "set_contract",
     "ORIGINS",
     "get_algorithm",
     "get_generator",
@@ -82,6 +84,10 @@ class AlgorithmSpec:
     clockwise : bool
         ``func`` returns faces clockwise seen from outside (2D: a clockwise
         polygon); each is reversed before checking.
+    contract : HullContract
+        What the algorithm promises (:mod:`hullstress.hull_contract`); its
+        rows are judged against it.  Its ``orientation`` always agrees with
+        ``clockwise``.
     """
 
     name: str
@@ -92,6 +98,13 @@ class AlgorithmSpec:
     summary: str
     writable: bool = False
     clockwise: bool = False
+    contract: HullContract = LENIENT
+
+    def __post_init__(self) -> None:
+        # One truth for the orientation: ``clockwise`` (the mechanism) and the declared contract agree.
+        clockwise = self.clockwise or self.contract.orientation == "cw"
+        object.__setattr__(self, "clockwise", clockwise)
+        object.__setattr__(self, "contract", replace(self.contract, orientation="cw" if clockwise else "ccw"))
 
     @property
     def module(self) -> str:
@@ -216,7 +229,8 @@ def _check_name_and_dim(kind: str, name: Any, dim: Any) -> None:
 
 
 def register_algorithm(
-    name: str, *, dim: int, writable: bool = False, clockwise: bool = False
+    name: str, *, dim: int, writable: bool = False, clockwise: bool = False,
+    contract: HullContract | str | None = None,
 ) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
     """Register a hull algorithm under ``name`` (a decorator).
 
@@ -233,6 +247,11 @@ def register_algorithm(
     clockwise : bool
         The function returns faces clockwise seen from outside (a clockwise
         polygon in 2D); hullstress reverses each before checking.
+    contract : HullContract or str, optional
+        What the function promises, judged on every row: ``"lenient"`` (the
+        default: points on edges and faces may be vertices), ``"strict"``
+        (only extreme points as vertices), or ``KEY=VALUE`` items such as
+        ``"strict,faces=triangles,flat=raise"`` (:mod:`hullstress.hull_contract`).
 
     Returns
     -------
@@ -259,6 +278,7 @@ def register_algorithm(
     >>> ALGORITHMS.remove("doc-example-triangle")  # keep the registry as it was
     """
     _check_name_and_dim("algorithm", name, dim)
+    declared = as_contract(contract)
 
     def decorate(func: Callable[..., Any]) -> Callable[..., Any]:
         if not callable(func):
@@ -280,6 +300,7 @@ def register_algorithm(
                 summary=_summary(func),
                 writable=bool(writable),
                 clockwise=bool(clockwise),
+                contract=declared,
             )
         )
         return func
@@ -294,6 +315,7 @@ def register_executable(
     dim: int,
     output: str = "i",
     clockwise: bool = False,
+    contract: HullContract | str | None = None,
 ) -> AlgorithmSpec:
     """Register a program in any language as a hull algorithm.
 
@@ -323,6 +345,8 @@ def register_executable(
     clockwise : bool
         The program writes 3D faces clockwise seen from outside, as Qhull's
         ``i`` does (2D: a clockwise polygon); they are reversed before checking.
+    contract : HullContract or str, optional
+        What the program promises (as for :func:`register_algorithm`; lenient by default).
 
     Returns
     -------
@@ -341,10 +365,12 @@ def register_executable(
     from .adapters.executable import ExecutableHull
 
     load_builtins()  # a clash with a built-in name is reported here, naming this program
+    declared = as_contract(contract)
     func = ExecutableHull.from_command(command, dim=int(dim), output=output)
+    clockwise = bool(clockwise) or declared.orientation == "cw"
     return ALGORITHMS.add(
         AlgorithmSpec(name=name, func=func, dim=int(dim), takes_eps=False, origin=Origin.EXECUTABLE.value,
-                      summary=func.describe(clockwise=bool(clockwise)), clockwise=bool(clockwise))
+                      summary=func.describe(clockwise=clockwise), clockwise=clockwise, contract=declared)
     )
 
 
@@ -359,7 +385,30 @@ def set_clockwise(name: str, clockwise: bool = True) -> AlgorithmSpec:
     spec = ALGORITHMS.get(name)
     if spec.clockwise == clockwise:
         return spec
-    return ALGORITHMS.replace(replace(spec, clockwise=bool(clockwise)))
+    orientation = "cw" if clockwise else "ccw"
+    return ALGORITHMS.replace(replace(spec, clockwise=bool(clockwise),
+                                      contract=replace(spec.contract, orientation=orientation)))
+
+
+def set_contract(name: str, contract: HullContract | str) -> AlgorithmSpec:
+    """Declare the contract of the registered algorithm ``name`` (``run --contract NAME=SPEC``).
+
+    The orientation stays what the registration (or ``--clockwise``) said
+    unless ``contract`` names one.
+
+    Raises
+    ------
+    UnknownNameError
+        When ``name`` is not registered.
+    UsageError
+        When ``contract`` is not a valid contract spelling.
+    """
+    spec = ALGORITHMS.get(name)
+    declared = as_contract(contract)
+    said_orientation = isinstance(contract, str) and "orientation=" in contract
+    if not said_orientation:
+        declared = replace(declared, orientation=spec.contract.orientation)
+    return ALGORITHMS.replace(replace(spec, contract=declared, clockwise=declared.orientation == "cw"))
 
 
 def register_generator(

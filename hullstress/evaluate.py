@@ -43,7 +43,7 @@ import numpy as np
 from .case import Case, points_digest
 from .config import NO_EPS, AlgorithmConfig, sphere_duplicate_policy
 from .contract import FaceSet, canonical_output, normalize_output, require_face_size, reverse_orientation
-from .errors import CodeCrashed, ContractViolation, code_frame, one_line
+from .errors import CodeCrashed, ContractViolation, UnknownNameError, code_frame, one_line
 from .records import CONTRACT_REASON, METHOD_REASON, Origin, Sphere, Stage, Status
 from .results import ResultRow, make_row
 from .tolerance import tolerance
@@ -431,7 +431,23 @@ def _method_problem(facts: CaseFacts, given: CaseFacts) -> str:
 
 
 def judge(case: Case, config: AlgorithmConfig, outcome: CallOutcome, facts: CaseFacts) -> ResultRow:
-    """Turn a call's outcome into a table row, applying docs/design.md's status rules per stage."""
+    """Turn a call's outcome into a table row: docs/design.md's status rules per stage, then the declared contract.
+
+    The contract (:mod:`hullstress.hull_contract`) can only add failures to
+    what the rules and the exact checker found (:mod:`hullstress.contract_verdict`).
+    """
+    from .contract_verdict import apply_contract
+
+    row = _judge_by_rules(case, config, outcome, facts)
+    try:
+        contract = config.spec.contract
+    except UnknownNameError:  # an algorithm from a plug-in not loaded here: judged by the rules alone
+        return row
+    return apply_contract(row, contract, outcome.faces, degenerate=bool(facts.degenerate))
+
+
+def _judge_by_rules(case: Case, config: AlgorithmConfig, outcome: CallOutcome, facts: CaseFacts) -> ResultRow:
+    """A call's outcome as a table row under docs/design.md's status rules per stage (the lenient judgement)."""
     common = dict(seconds=outcome.seconds, eps_value=outcome.eps_value,
                   degenerate=facts.degenerate, invalid_input=facts.invalid_input)
     sphere = config.sphere == Sphere.ON

@@ -32,7 +32,7 @@ __all__ = [
 STATUSES = tuple(s.value for s in Status)
 
 _PROVENANCE = ("case_id", "generator", "params", "transform", "dim", "n_points", "size", "seed", "source")
-_CONFIG = ("algorithm", "origin", "sphere", "eps", "config")
+_CONFIG = ("algorithm", "origin", "sphere", "eps", "config", "contract")
 _OUTCOME = ("status", "stage", "sphere_method", *SPHERE_CAUSE_COLUMNS, "reason", "error_frame", "seconds",
             "check_seconds", "eps_value", "degenerate", "invalid_input", "call_output")
 
@@ -92,6 +92,7 @@ def make_row(
     origin: str | None = None,
     call_output: str = "",
     error_frame: str = "",
+    contract: str | None = None,
 ) -> ResultRow:
     """Assemble a :class:`ResultRow` from its parts.
 
@@ -122,15 +123,22 @@ def make_row(
     error_frame : str
         For an exception: the innermost frame of the code under test that
         raised it (``module:line in function``).
+    contract : str, optional
+        The declared contract's label, for a process where the algorithm is
+        not registered (a runner's parent building a timeout or crash row);
+        by default the registered spec's.
     """
     if status not in STATUSES:
         raise ValueError(f"status must be one of {STATUSES}, got {status!r}")
     stage = Stage(stage)
+    try:
+        spec = config.spec
+    except Exception:  # an algorithm from a plug-in not loaded here
+        spec = None
     if origin is None:
-        try:
-            origin = config.spec.origin
-        except Exception:  # an algorithm from a plug-in not loaded here
-            origin = "unknown"
+        origin = spec.origin if spec is not None else "unknown"
+    if contract is None:
+        contract = spec.contract.label if spec is not None else ""  # the promise the row was judged against
     values: dict[str, Any] = {
         "case_id": case.case_id,
         "generator": case.family,
@@ -146,6 +154,7 @@ def make_row(
         "sphere": config.sphere,
         "eps": config.eps,
         "config": config.label,
+        "contract": contract,
         "status": Status(status).value,  # a plain string in the table, whichever spelling came in
         "stage": stage.value,
         "sphere_method": str(sphere_method),
@@ -189,13 +198,13 @@ def _typed(df: pd.DataFrame) -> pd.DataFrame:
     for col in ("seconds", "check_seconds", "eps_value", "max_violation", "distround", "volume", "qhull_volume"):
         df[col] = pd.to_numeric(df[col], errors="coerce").astype("float64")
     for col in ("qhull_agreement", "failed_checks", "severity", "qhull_options", "offending", "reason", "error_frame",
-                "invalid_input", "transform", "stage", "sphere_method", "sphere_structure", "sphere_kept_structure", "call_output"):
+                "invalid_input", "transform", "stage", "contract", "sphere_method", "sphere_structure", "sphere_kept_structure", "call_output"):
         df[col] = df[col].astype("string")
     return df
 
 
 #: Text columns whose empty value means "none", not "missing".
-_TEXT_COLUMNS = ("params", "transform", "source", "sphere_method", "sphere_structure", "sphere_kept_structure",
+_TEXT_COLUMNS = ("params", "transform", "source", "contract", "sphere_method", "sphere_structure", "sphere_kept_structure",
                  "reason", "invalid_input", "failed_checks", "severity", "qhull_options", "offending", "stage",
                  "error_frame", "call_output")
 

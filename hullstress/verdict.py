@@ -13,6 +13,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
+from .hull_contract import CONTRACT_CHECKS
 from .records import Status
 
 __all__ = [
@@ -33,7 +34,7 @@ CHECKS = ("convexity", "containment", "manifoldness", "qhull_agreement")
 #: Every value the "failed check" part of a failure signature can take (``shrink --check`` accepts
 #: these; :mod:`hullstress.triage.signature`).  Here, beside the checks, so that building the
 #: command line's parser imports nothing heavy.
-FAILED_CHECKS = (("contract",) + CHECKS + ("collapsed", "invalid-input")
+FAILED_CHECKS = (("contract",) + CHECKS + CONTRACT_CHECKS + ("collapsed", "invalid-input")
                  + (Status.ERROR.value, Status.TIMEOUT.value, Status.CRASH.value))
 
 #: ``qhull_agreement``: the hull's extreme vertex set and volume agree with Qhull's, whose

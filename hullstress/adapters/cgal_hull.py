@@ -29,6 +29,13 @@ for collinear input.  Those are CGAL's lower-dimensional answers, not closed
 hulls, so the adapters raise ``ValueError`` saying what CGAL returned, and the
 harness records ``rejected`` (or ``error`` on a full-dimensional input).
 
+Declared contracts: CGAL documents ``convex_hull_2`` and its variants as
+producing "the counterclockwise sequence of extreme points" and
+``convex_hull_3`` as the polyhedron whose vertices are the extreme points
+(a kept non-extreme vertex was accepted as a bug, CGAL issue 3192) with
+triangular facets; the adapters raise on flat input.  So: ``strict,flat=raise``
+in 2D and ``strict,faces=triangles,flat=raise`` in 3D (``docs/contracts.md``).
+
 Non-finite input is passed through unchanged, as the library would get it:
 with a NaN or infinite coordinate ``convex_hull_3`` kills the process with
 SIGFPE (cgal 6.0.1, Python 3.11, Linux x86_64); the runner's worker isolation
@@ -69,6 +76,9 @@ __all__ = [
     "cgal_jarvis_2d",
 ]
 
+#: What the 2D adapters promise (see "Declared contracts" above).
+CGAL_2D_CONTRACT = "strict,flat=raise"
+
 #: The algorithm names this module registers.
 ALGORITHM_NAMES: tuple[str, ...] = (
     "cgal-convex-hull-3d",
@@ -78,7 +88,7 @@ ALGORITHM_NAMES: tuple[str, ...] = (
 )
 
 
-@register_algorithm("cgal-convex-hull-3d", dim=3)
+@register_algorithm("cgal-convex-hull-3d", dim=3, contract="strict,faces=triangles,flat=raise")
 def cgal_convex_hull_3d(points: np.ndarray, /) -> np.ndarray | list[list[int]]:
     """CGAL convex_hull_3 (exact predicates) via the cgal bindings (3D).
 
@@ -141,7 +151,7 @@ def _hull_2d(points: np.ndarray, function: Callable[[list[Any], list[Any]], Any]
     return np.asarray(indices_of(coords, coordinate_table(points), library="CGAL"), dtype=np.int64)
 
 
-@register_algorithm("cgal-convex-hull-2d", dim=2)
+@register_algorithm("cgal-convex-hull-2d", dim=2, contract=CGAL_2D_CONTRACT)
 def cgal_convex_hull_2d(points: np.ndarray, /) -> np.ndarray:
     """CGAL convex_hull_2 (Akl-Toussaint, exact predicates) via the cgal bindings (2D).
 
@@ -162,7 +172,7 @@ def cgal_convex_hull_2d(points: np.ndarray, /) -> np.ndarray:
     return _hull_2d(points, CGAL_Convex_hull_2.convex_hull_2, "convex_hull_2")
 
 
-@register_algorithm("cgal-graham-andrew-2d", dim=2)
+@register_algorithm("cgal-graham-andrew-2d", dim=2, contract=CGAL_2D_CONTRACT)
 def cgal_graham_andrew_2d(points: np.ndarray, /) -> np.ndarray:
     """CGAL ch_graham_andrew (monotone chain, exact predicates) via the cgal bindings (2D).
 
@@ -171,7 +181,7 @@ def cgal_graham_andrew_2d(points: np.ndarray, /) -> np.ndarray:
     return _hull_2d(points, CGAL_Convex_hull_2.ch_graham_andrew, "ch_graham_andrew")
 
 
-@register_algorithm("cgal-jarvis-2d", dim=2)
+@register_algorithm("cgal-jarvis-2d", dim=2, contract=CGAL_2D_CONTRACT)
 def cgal_jarvis_2d(points: np.ndarray, /) -> np.ndarray:
     """CGAL ch_jarvis (gift wrapping, exact predicates) via the cgal bindings (2D).
 

@@ -38,6 +38,16 @@ These adapters take no ``eps`` (Qhull has its own tolerances).  A
 caught: the harness records it as ``rejected`` on degenerate input and as
 ``error`` otherwise.
 
+Declared contract
+-----------------
+``faces=triangles`` in 3D (scipy documents ``simplices`` as "the simplical
+facets of the convex hull"), otherwise lenient: Qhull documents its output as
+convex only within roundoff ("Imprecision in Qhull", qh-impre.htm), so a
+vertex a rounding error inside a facet is within its promise (vertices stay
+``boundary``); and although Qhull raises QH6154 "initial simplex is flat" on
+flat input, it decides flatness in floating point, so an exactly flat input
+may be answered (``flat=either``).  See ``docs/contracts.md``.
+
 Examples
 --------
 >>> import numpy as np
@@ -71,6 +81,9 @@ __all__ = [
     "scipy_qhull_3d_q0",
     "scipy_qhull_3d_qbb_pp",
 ]
+
+#: What the 3D adapters promise (see "Declared contract" above); 2D: lenient.
+QHULL_3D_CONTRACT = "faces=triangles"
 
 #: Registered name -> the ``qhull_options`` string passed to scipy (None: scipy's default).
 QHULL_OPTIONS: dict[str, str | None] = {
@@ -252,37 +265,37 @@ def scipy_qhull_2d_qj(points: np.ndarray, /) -> np.ndarray:
     return qhull_2d(points, QHULL_OPTIONS["scipy-qhull-2d-QJ"])
 
 
-@register_algorithm("scipy-qhull-3d", dim=3)
+@register_algorithm("scipy-qhull-3d", dim=3, contract=QHULL_3D_CONTRACT)
 def scipy_qhull_3d(points: np.ndarray, /) -> np.ndarray:
     """Qhull via scipy.spatial.ConvexHull, scipy's default options (3D, Qt)."""
     return qhull_3d(points, QHULL_OPTIONS["scipy-qhull-3d"])
 
 
-@register_algorithm("scipy-qhull-3d-QJ", dim=3)
+@register_algorithm("scipy-qhull-3d-QJ", dim=3, contract=QHULL_3D_CONTRACT)
 def scipy_qhull_3d_qj(points: np.ndarray, /) -> np.ndarray:
     """Qhull via scipy.spatial.ConvexHull with QJ: joggled input (3D)."""
     return qhull_3d(points, QHULL_OPTIONS["scipy-qhull-3d-QJ"])
 
 
-@register_algorithm("scipy-qhull-3d-Qt-Qc", dim=3)
+@register_algorithm("scipy-qhull-3d-Qt-Qc", dim=3, contract=QHULL_3D_CONTRACT)
 def scipy_qhull_3d_qt_qc(points: np.ndarray, /) -> np.ndarray:
     """Qhull via scipy.spatial.ConvexHull with Qt Qc: triangulated, coplanar points kept (3D)."""
     return qhull_3d(points, QHULL_OPTIONS["scipy-qhull-3d-Qt-Qc"])
 
 
-@register_algorithm("scipy-qhull-3d-Q12", dim=3)
+@register_algorithm("scipy-qhull-3d-Q12", dim=3, contract=QHULL_3D_CONTRACT)
 def scipy_qhull_3d_q12(points: np.ndarray, /) -> np.ndarray:
     """Qhull via scipy.spatial.ConvexHull with Q12: wide facets and dupridges allowed (3D)."""
     return qhull_3d(points, QHULL_OPTIONS["scipy-qhull-3d-Q12"])
 
 
-@register_algorithm("scipy-qhull-3d-Q0", dim=3)
+@register_algorithm("scipy-qhull-3d-Q0", dim=3, contract=QHULL_3D_CONTRACT)
 def scipy_qhull_3d_q0(points: np.ndarray, /) -> np.ndarray:
     """Qhull via scipy.spatial.ConvexHull with Q0: no pre-merging of facets (3D)."""
     return qhull_3d(points, QHULL_OPTIONS["scipy-qhull-3d-Q0"])
 
 
-@register_algorithm("scipy-qhull-3d-QbB-Pp", dim=3)
+@register_algorithm("scipy-qhull-3d-QbB-Pp", dim=3, contract=QHULL_3D_CONTRACT)
 def scipy_qhull_3d_qbb_pp(points: np.ndarray, /) -> np.ndarray:
     """Qhull via scipy.spatial.ConvexHull with QbB Pp, trimesh's options (3D)."""
     return qhull_3d(points, QHULL_OPTIONS["scipy-qhull-3d-QbB-Pp"])

@@ -17,6 +17,13 @@ Point, for no points an empty geometry; none of them is a polygon, so the
 adapter raises ``ValueError`` naming what GEOS returned.  The harness records
 that as ``rejected`` on degenerate input (and ``error`` otherwise).
 
+Declared contract: ``strict,flat=raise``.  GEOS's ``ConvexHull`` (a port of
+JTS's) documents its result as the smallest convex polygon and removes
+collinear ring points with its robust orientation test, so only extreme
+points are vertices; for collinear input shapely documents a LineString,
+which this adapter turns into ``ValueError`` (an exact test: GEOS's
+orientation predicate is robust).  See ``docs/contracts.md``.
+
 Examples
 --------
 >>> import numpy as np
@@ -50,7 +57,7 @@ _DEGENERATE_KIND = {
 }
 
 
-@register_algorithm("shapely-convex-hull", dim=2)
+@register_algorithm("shapely-convex-hull", dim=2, contract="strict,flat=raise")
 def shapely_convex_hull(points: np.ndarray, /) -> np.ndarray:
     """GEOS convex hull via shapely.MultiPoint(points).convex_hull (2D).
 

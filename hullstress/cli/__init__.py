@@ -132,7 +132,8 @@ def _registrations(args: argparse.Namespace) -> Iterator[None]:
     from .._registry import ALGORITHMS
     from ._common import load_registrations
 
-    if not (getattr(args, "exec_specs", None) or getattr(args, "clockwise_names", None)):
+    if not (getattr(args, "exec_specs", None) or getattr(args, "clockwise_names", None)
+            or getattr(args, "contract_specs", None)):
         load_registrations(args)  # plug-ins only: nothing to undo (and no need to load the built-ins)
         yield
         return
@@ -146,7 +147,7 @@ def _registrations(args: argparse.Namespace) -> Iterator[None]:
             spec = ALGORITHMS.get(name)
             if old is None and spec.origin == Origin.EXECUTABLE:
                 ALGORITHMS.remove(name)
-            elif old is not None and old.clockwise != spec.clockwise:
+            elif old is not None and (old.clockwise != spec.clockwise or old.contract != spec.contract):
                 ALGORITHMS.replace(old)
 
 

@@ -98,6 +98,12 @@ def add_registration_options(parser: argparse.ArgumentParser, *, clockwise: bool
         parser.add_argument("--clockwise", action="append", default=[], metavar="NAME", dest="clockwise_names",
                             help="algorithm NAME writes faces clockwise seen from outside (as Qhull's 3D 'i' "
                             "does); reverse them before checking (repeatable)")
+        parser.add_argument("--contract", action="append", default=[], metavar="NAME=CONTRACT",
+                            dest="contract_specs",
+                            help="judge algorithm NAME against its declared contract (repeatable): 'strict' "
+                            "(only extreme points as vertices), 'lenient' (the default) or KEY=VALUE items "
+                            "(vertices=boundary|extreme, faces=any|triangles, flat=either|raise|lower-dim, "
+                            "orientation=ccw|cw), e.g. --contract 'my-hull=strict,flat=raise'")
 
 
 def load_registrations(args: argparse.Namespace) -> None:
@@ -109,7 +115,8 @@ def load_registrations(args: argparse.Namespace) -> None:
         A plug-in that cannot be imported, a malformed ``--exec``, a program
         not found, a name registered twice, an unknown ``--clockwise`` name.
     """
-    from .._registry import register_executable, set_clockwise
+    from .._registry import register_executable, set_clockwise, set_contract
+    from ..errors import UsageError
     from ..adapters.executable import parse_exec_spec
     from ..plugins import load_plugin
 
@@ -120,6 +127,11 @@ def load_registrations(args: argparse.Namespace) -> None:
         register_executable(name, command, dim=options["dim"], output=options["output"])
     for name in getattr(args, "clockwise_names", []):
         set_clockwise(name)
+    for text in getattr(args, "contract_specs", []):
+        name, sep, contract = text.partition("=")
+        if not sep or not name.strip():
+            raise UsageError(f"--contract {text!r}: expected NAME=CONTRACT (e.g. my-hull=strict)")
+        set_contract(name.strip(), contract)
 
 
 def registration_args(args: argparse.Namespace) -> tuple[str, ...]:
@@ -131,4 +143,6 @@ def registration_args(args: argparse.Namespace) -> tuple[str, ...]:
         out += ["--exec", text]
     for name in getattr(args, "clockwise_names", []):
         out += ["--clockwise", name]
+    for text in getattr(args, "contract_specs", []):
+        out += ["--contract", text]
     return tuple(out)

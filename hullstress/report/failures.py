@@ -25,6 +25,9 @@ Contents:
     Status, stage, reason, frame, the checker's verdict columns and offending indices.
 ``picture.png``
     For the top causes (the profile's picture count): see :mod:`hullstress.report.pictures`.
+``repro.py`` (or ``input.txt``, ``command.txt`` and ``repro.sh`` for a program), ``certificate.json``, ``verify.py``, ``bug-report.md``
+    For the maintainer of the code that failed, who need not install
+    hullstress: see :mod:`hullstress.report.handover`.
 ``reproduce.txt``
     One shell command, runnable from any directory, that re-runs the case and
     exits 1 while the failure persists: ``hullstress reproduce <folder>`` with
@@ -214,6 +217,14 @@ def points_json(points: np.ndarray) -> Any:
     return np.asarray(points, dtype=np.float64).tolist()
 
 
+def _contract_label(config: Any) -> str:
+    """The declared contract the cause was judged against (empty when its plug-in is not loaded here)."""
+    try:
+        return config.spec.contract.label
+    except Exception:
+        return ""
+
+
 def _write_points(folder: Path, points: np.ndarray, storage: str) -> str:
     """Write points.npy and, when triage found it exact, points.csv; return the readable file's name."""
     from ..io import write_points
@@ -300,6 +311,7 @@ def write_cause_folder(
         "label": sig.label,
         "signature": sig.as_dict(),
         "config": config.label,
+        "contract": _contract_label(config),
         "dim": case.dim,
         "points_file": points_file,
         "storage": rep.storage,
@@ -323,6 +335,9 @@ def write_cause_folder(
     }
     atomic_write_text(folder / CASE_FILE, json.dumps(meta, indent=2, default=repr) + "\n")
     atomic_write_text(folder / "reproduce.txt", command + "\n")
+    from .handover import write_handover
+
+    write_handover(folder, rep)
     out = FailureRecord(cause=cause, folder=folder, command=command, points=points)
     return draw_picture(out) if picture else out
 

@@ -139,6 +139,9 @@ def _cause_html(rec: FailureRecord) -> str:
     items = [("failures", f"{cause.failures} failing calls in {len(cause.records)} failure groups")]
     items.append(("configs", "<br>".join(f"<code>{_e(c)}</code>" for c in cause.configs)))
     items.append(("families", _e(", ".join(f"{f} ({n})" for f, n in cause.families))))
+    row = rec.record.shrink.row
+    if row is not None and row.get("contract"):
+        items.append(("declared contract", f"<code>{_e(row.get('contract'))}</code>"))
     shrunk = f"{rec.original_size} &rarr; {rec.minimal_size} points"
     shrunk += f" ({rec.shrink_calls} evaluations)" if rec.shrunk else " (not shrunk)"
     items.append(("size", shrunk))
@@ -154,6 +157,9 @@ def _cause_html(rec: FailureRecord) -> str:
     verified = {True: '<span class="ok">yes</span>', False: '<span class="bad">NO</span>', None: "not checked"}
     items.append(("fails again when re-run", verified[rec.verified]))
     items.append(("folder", f"<code>{_e(rec.folder)}</code>"))
+    items.append(("for the maintainer", "<code>bug-report.md</code>, a reproducer without hullstress "
+                  "(<code>repro.py</code> or <code>repro.sh</code>), <code>certificate.json</code> checked by "
+                  "<code>python verify.py</code>"))
     parts.append("<dl>" + "".join(f"<dt>{k}</dt><dd>{v}</dd>" for k, v in items) + "</dl>")
     if rec.command:
         parts.append(f"<p>Reproduce (prints the verdict and its witness; exits 1 while the failure persists):</p>"

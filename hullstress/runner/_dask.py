@@ -156,7 +156,8 @@ def run_dask(
             except Exception as exc:  # the Dask worker died or the task could not run there
                 reason = f"internal: dask task failed: {one_line(exc)}"
                 rows = [make_row(task.case, c, status=Status.ERROR, stage=Stage.CHECK, reason=reason,
-                                 origin=refs[c.algorithm].origin) for c in task.configs]
+                                 origin=refs[c.algorithm].origin, contract=refs[c.algorithm].contract)
+                        for c in task.configs]
                 tally = ExecutionStats(backend="dask")
             for row in rows:
                 emit_row(row, on_row, stats)

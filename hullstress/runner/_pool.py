@@ -610,20 +610,21 @@ class WorkerPool:
             job = jobs[0]
             task, n = job.task, len(job.task.configs)
             origin = self._origin(task, k, settings) if 0 <= k < n else None
+            contract = self._contract(task, k, settings) if 0 <= k < n else None
             if phase == "call":
                 if kill_reason:
                     row = row_for(task, k, status=Status.TIMEOUT, reason=f"exceeded {float(settings.timeout)} s",
-                                  origin=origin, facts_info=facts_info, seconds=elapsed)
+                                  origin=origin, facts_info=facts_info, seconds=elapsed, contract=contract)
                 else:
                     row = row_for(task, k, status=Status.CRASH, reason=how, origin=origin,
-                                  facts_info=facts_info, seconds=elapsed)
+                                  facts_info=facts_info, seconds=elapsed, contract=contract)
                 job.start_at = k + 1
                 emit_row(row, on_row, stats)
             elif phase == "check":
                 why = f"exceeded {limit:g} s" if kill_reason else f"crashed ({how})"
                 emit_row(row_for(task, k, status=Status.ERROR, reason=f"internal: checker {why}", origin=origin,
                               facts_info=facts_info, seconds=call_seconds, check_seconds=elapsed,
-                              stage=Stage.CHECK), on_row, stats)
+                              stage=Stage.CHECK, contract=contract), on_row, stats)
                 job.start_at = k + 1
             elif phase == "facts":
                 why = f"exceeded {limit:g} s" if kill_reason else f"crashed ({how})"
@@ -654,9 +655,15 @@ class WorkerPool:
         ref = settings.refs.get(task.configs[k].algorithm)
         return ref.origin if ref is not None else None
 
+    @staticmethod
+    def _contract(task: Task, k: int, settings: PoolSettings) -> str | None:
+        ref = settings.refs.get(task.configs[k].algorithm)
+        return ref.contract if ref is not None else None
+
     def _give_up(self, job: PendingJob, reason: str, settings: PoolSettings,
                  on_row: Callable[[ResultRow], None], stats: ExecutionStats) -> None:
         for k in range(job.start_at, len(job.task.configs)):
             emit_row(row_for(job.task, k, status=Status.ERROR, reason=reason, origin=self._origin(job.task, k, settings),
-                          facts_info=(None, None), stage=Stage.CHECK), on_row, stats)
+                          facts_info=(None, None), stage=Stage.CHECK,
+                          contract=self._contract(job.task, k, settings)), on_row, stats)
         job.start_at = len(job.task.configs)

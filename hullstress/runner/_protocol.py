@@ -47,7 +47,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any
 
-from .._registry import ALGORITHMS, AlgorithmSpec, get_algorithm, set_clockwise
+from .._registry import ALGORITHMS, AlgorithmSpec, get_algorithm, set_clockwise, set_contract
 from ..config import AlgorithmConfig
 from ..errors import UsageError, one_line
 from ..evaluate import CaseFacts, call_algorithm, case_facts, judge
@@ -122,6 +122,8 @@ class AlgorithmRef:
         The pickled :class:`~hullstress.AlgorithmSpec` (the function by reference).
     clockwise : bool
         The parent's ``clockwise`` flag (``run --clockwise NAME`` sets it on built-ins too).
+    contract : str
+        The parent's declared contract, as its label (``run --contract NAME=...`` sets it on any algorithm).
     """
 
     name: str
@@ -130,6 +132,7 @@ class AlgorithmRef:
     file: str | None
     spec_pickle: bytes
     clockwise: bool = False
+    contract: str = "lenient"
 
 
 def _ref(spec: AlgorithmSpec) -> AlgorithmRef:
@@ -145,7 +148,7 @@ def _ref(spec: AlgorithmSpec) -> AlgorithmRef:
             "a --plugin file, or run with --workers 0"
         ) from None
     return AlgorithmRef(name=spec.name, origin=spec.origin, module=module, file=file, spec_pickle=blob,
-                        clockwise=spec.clockwise)
+                        clockwise=spec.clockwise, contract=spec.contract.label)
 
 
 def algorithm_refs(tasks: list[Task] | tuple[Task, ...]) -> dict[str, AlgorithmRef]:
@@ -178,6 +181,14 @@ def _import_file(module: str, file: str) -> None:
         raise
 
 
+def _sync_options(ref: AlgorithmRef) -> None:
+    """Give this process's registration the parent's ``clockwise`` flag and declared contract."""
+    if ALGORITHMS.get(ref.name).clockwise != ref.clockwise:
+        set_clockwise(ref.name, ref.clockwise)
+    if ALGORITHMS.get(ref.name).contract.label != ref.contract:
+        set_contract(ref.name, ref.contract + ",orientation=" + ("cw" if ref.clockwise else "ccw"))
+
+
 def ensure_algorithm(ref: AlgorithmRef) -> str | None:
     """Make ``ref`` resolvable by name in this process; return None, or why it cannot be.
 
@@ -190,8 +201,7 @@ def ensure_algorithm(ref: AlgorithmRef) -> str | None:
     True
     """
     if ref.name in ALGORITHMS:
-        if ALGORITHMS.get(ref.name).clockwise != ref.clockwise:
-            set_clockwise(ref.name, ref.clockwise)
+        _sync_options(ref)
         return None
     try:
         if ref.module not in sys.modules:
@@ -208,8 +218,7 @@ def ensure_algorithm(ref: AlgorithmRef) -> str | None:
                     _import_file(ref.module, ref.file)
         if ref.name not in ALGORITHMS:
             ALGORITHMS.add(pickle.loads(ref.spec_pickle))
-        if ALGORITHMS.get(ref.name).clockwise != ref.clockwise:
-            set_clockwise(ref.name, ref.clockwise)
+        _sync_options(ref)
     except Exception as exc:
         return f"cannot load algorithm {ref.name!r} from {ref.file or ref.module} in the worker: {one_line(exc)}"
     return None
@@ -492,7 +501,7 @@ def run_job(job: Job, problems: Mapping[str, str] | None = None, *,
 
 def row_for(task: Task, k: int, *, status: str, reason: str, origin: str | None,
             facts_info: tuple[bool | None, str | None], seconds: float = 0.0,
-            check_seconds: float = 0.0, stage: Stage = Stage.ALGORITHM) -> ResultRow:
+            check_seconds: float = 0.0, stage: Stage = Stage.ALGORITHM, contract: str | None = None) -> ResultRow:
     """A row the parent builds itself (timeout, crash, limits), with the facts the worker reported.
 
     ``stage`` is ``check`` when the harness's own part (facts, checker) ran out
@@ -500,7 +509,8 @@ def row_for(task: Task, k: int, *, status: str, reason: str, origin: str | None,
     """
     degenerate, invalid = facts_info
     return make_row(task.case, task.configs[k], status=status, stage=stage, reason=reason, seconds=seconds,
-                    check_seconds=check_seconds, degenerate=degenerate, invalid_input=invalid, origin=origin)
+                    check_seconds=check_seconds, degenerate=degenerate, invalid_input=invalid, origin=origin,
+                    contract=contract)
 
 
 def emit_row(row: ResultRow, on_row: Callable[[ResultRow], None], stats: ExecutionStats) -> None:
