@@ -295,6 +295,8 @@ def register_executable(
     dim: int,
     output: str = "i",
     clockwise: bool = False,
+    mode: str = "spawn",
+    probe: bool = True,
 ) -> AlgorithmSpec:
     """Register a program in any language as a hull algorithm.
 
@@ -324,10 +326,26 @@ def register_executable(
     clockwise : bool
         The program writes 3D faces clockwise seen from outside, as Qhull's
         ``i`` does (2D: a clockwise polygon); they are reversed before checking.
+    mode : {"spawn", "persistent"}
+        ``spawn``: one process per case.  ``persistent``: the program starts
+        once per worker and answers case after case over the protocol of
+        :mod:`hullstress.adapters.exec_protocol` (a handshake, then framed cases).
+    probe : bool
+        Run the program once now on five points in general position
+        (:func:`hullstress.adapters.executable.probe`): a program that cannot
+        start, prints nothing, never answers its handshake or speaks another
+        dimension is refused here; what it says it is (its handshake or
+        ``--version``) is kept for ``run.json`` and the report.
 
     Returns
     -------
     AlgorithmSpec
+
+    Raises
+    ------
+    UsageError
+        A bad option, a program not found, a name already registered, a
+        failed probe: one line naming the program and the problem.
 
     Examples
     --------
@@ -339,10 +357,15 @@ def register_executable(
     """
     _check_name_and_dim("executable", name, dim)
     # Imported here: the adapter module is light, but the registry stays lighter.
-    from .adapters.executable import ExecutableHull
+    from .adapters.executable import ExecutableHull, probe as probe_program
 
     load_builtins()  # a clash with a built-in name is reported here, naming this program
-    func = ExecutableHull.from_command(command, dim=int(dim), output=output)
+    func = ExecutableHull.from_command(command, dim=int(dim), output=output, mode=mode)
+    if name in ALGORITHMS:  # before running anything: the registry's own message names both entries
+        ALGORITHMS.add(AlgorithmSpec(name=name, func=func, dim=int(dim), takes_eps=False,
+                                     origin=Origin.EXECUTABLE.value, summary=func.describe()))
+    if probe:
+        func = probe_program(func)
     return ALGORITHMS.add(
         AlgorithmSpec(name=name, func=func, dim=int(dim), takes_eps=False, origin=Origin.EXECUTABLE.value,
                       summary=func.describe(clockwise=bool(clockwise)), clockwise=bool(clockwise))

@@ -85,9 +85,11 @@ def add_registration_options(parser: argparse.ArgumentParser, *, clockwise: bool
                         help="import a module or .py file that registers algorithms or generators (repeatable)")
     parser.add_argument("--exec", action="append", default=[], metavar="NAME=COMMAND", dest="exec_specs",
                         help="register a program in any language as algorithm NAME (repeatable): it reads "
-                        "Qhull-format points on stdin and writes its hull on stdout; NAME[dim=2|3,output=i|Fx|off] "
-                        "sets the dimension (default 3) and the output format (default i: Qhull's facet "
-                        "indices; Fx: 2D extreme points; off: OFF), e.g. qconvex='qconvex Qt i'")
+                        "Qhull-format points on stdin and writes its hull on stdout; NAME[dim=2|3,output=i|Fx|off,"
+                        "mode=spawn|persistent] sets the dimension (default 3), the output format (default i: "
+                        "Qhull's facet indices; Fx: 2D extreme points; off: OFF) and the mode (default spawn: one "
+                        "process per case; persistent: one per worker, answering case after case, see "
+                        "docs/executables.md), e.g. qconvex='qconvex Qt i'")
     if clockwise:
         parser.add_argument("--clockwise", action="append", default=[], metavar="NAME", dest="clockwise_names",
                             help="algorithm NAME writes faces clockwise seen from outside (as Qhull's 3D 'i' "
@@ -111,7 +113,7 @@ def load_registrations(args: argparse.Namespace) -> None:
         load_plugin(spec)
     for text in getattr(args, "exec_specs", []):
         name, command, options = parse_exec_spec(text)
-        register_executable(name, command, dim=options["dim"], output=options["output"])
+        register_executable(name, command, dim=options["dim"], output=options["output"], mode=options["mode"])
     for name in getattr(args, "clockwise_names", []):
         set_clockwise(name)
 
