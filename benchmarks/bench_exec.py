@@ -1,0 +1,208 @@
+"""What hullstress costs around an ``--exec`` program, in spawn and in persistent mode.
+
+For each driver (the kit's C and Node.js examples, and the shipped libqhull_r and
+quickhull3d drivers when built), in one run:
+
+* **direct**: the program's own time per run, started by a shell loop on one
+  24-point file (``while ...; do PROGRAM < points.txt > /dev/null; done``);
+* **spawn**: the time per call of the same program in spawn mode, judged, as a
+  worker does it (:func:`hullstress.evaluate.evaluate` on 24-point cases: case
+  facts, start, feed, read, parse, judge), and its overhead over **direct**:
+  hullstress's own cost per call; also hullstress's own CPU time per call
+  (this process's, the program's excluded), which a loaded machine does not inflate;
+* **persistent**: calls per second in persistent mode, 2 workers, the same
+  24-point cases in the steady state, and over the whole quick profile
+  (``python -m hullstress run --exec ... --workers 2``: its calls divided by
+  its sweep's wall time, worker and program starts included).
+
+Every figure is measured in the same run; wall-clock figures are the best of
+several rounds, and on a loaded machine all of them are still depressed (the
+table's header gives the load).  Writes
+``docs/figures/bench_exec.md`` (included by docs/executables.md).
+
+Usage: ``python benchmarks/bench_exec.py [--calls K] [--out FILE]``
+(builds ``make -C drivers example`` first; ``make -C drivers qhull`` and
+``npm install --prefix drivers/js`` add the library drivers).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import shlex
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _bench_common import load_average  # noqa: E402
+
+REPO = Path(__file__).resolve().parent.parent
+DRIVERS = REPO / "drivers"
+FIGURES = REPO / "docs" / "figures" / "bench_exec.md"
+#: Points per case, as the issue's goal states it.
+POINTS = 24
+
+
+@dataclass
+class Driver:
+    label: str
+    command: list[str]
+    dim: int
+    output: str
+    direct_runs: int
+
+
+def _drivers() -> list[Driver]:
+    subprocess.run(["make", "-C", str(DRIVERS), "example"], check=True, capture_output=True)
+    found = [Driver("C, kit example (2D monotone chain)", [str(DRIVERS / "build" / "monotone_chain")], 2, "Fx", 400)]
+    node = shutil.which("node")
+    if node:
+        found.append(Driver("Node.js, kit example (2D monotone chain)",
+                            [node, str(DRIVERS / "examples" / "monotone_chain.mjs")], 2, "Fx", 60))
+    if subprocess.run(["make", "-C", str(DRIVERS), "qhull"], capture_output=True).returncode == 0:
+        found.append(Driver("C, libqhull_r driver (3D)", [str(DRIVERS / "build" / "qhull_r_driver")], 3, "i", 400))
+    if node and (DRIVERS / "js" / "node_modules" / "quickhull3d").is_dir():
+        found.append(Driver("Node.js, quickhull3d driver (3D)", [node, str(DRIVERS / "js" / "quickhull3d_driver.mjs")],
+                            3, "i", 60))
+    return found
+
+
+ROUNDS = 5
+
+
+def _direct(driver: Driver, points_file: Path) -> float:
+    """Seconds per run of the program started by a shell loop on the points file (best of :data:`ROUNDS`)."""
+    runs = max(1, driver.direct_runs // ROUNDS)
+    loop = (f"i=0; while [ $i -lt {runs} ]; do {shlex.join(driver.command)} "
+            f"< {shlex.quote(str(points_file))} > /dev/null; i=$((i+1)); done")
+    best = float("inf")
+    for _ in range(ROUNDS):
+        start = time.perf_counter()
+        subprocess.run(["sh", "-c", loop], check=True)
+        best = min(best, (time.perf_counter() - start) / runs)
+    return best
+
+
+def _cases(dim: int, count: int, seed: int) -> list:
+    from hullstress import Case
+
+    rng = np.random.default_rng(seed)
+    return [Case.from_points(rng.random((POINTS, dim))) for _ in range(count)]
+
+
+def _in_process(name: str, dim: int, calls: int) -> tuple[float, float]:
+    """Wall seconds per judged call (best of :data:`ROUNDS`) and this process's CPU seconds per call."""
+    import resource
+
+    from hullstress import AlgorithmConfig
+    from hullstress.evaluate import evaluate
+
+    config = AlgorithmConfig(name)
+    cases = _cases(dim, calls, 1)
+    evaluate(cases[0], config, qhull=False)  # a persistent program starts here, not in the rounds
+    best, cpu = float("inf"), float("inf")
+    for _ in range(ROUNDS):
+        before = resource.getrusage(resource.RUSAGE_SELF)
+        start = time.perf_counter()
+        for case in cases:
+            row = evaluate(case, config, qhull=False)
+            if row["status"] != "pass":
+                raise SystemExit(f"{name}: a call did not pass: {row['status']} {row['reason']}")
+        best = min(best, (time.perf_counter() - start) / calls)
+        after = resource.getrusage(resource.RUSAGE_SELF)
+        cpu = min(cpu, (after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime) / calls)
+    return best, cpu
+
+
+def _sweep_seconds(name: str, dim: int, calls: int, workers: int) -> float:
+    """Wall seconds of the isolated runner doing ``calls`` calls of ``name`` on distinct 24-point cases."""
+    from hullstress import AlgorithmConfig
+    from hullstress.runner import RunnerOptions, Task, execute
+
+    config = (AlgorithmConfig(name),)
+    tasks = [Task(i, case, config) for i, case in enumerate(_cases(dim, calls, calls))]
+    rows: list = []
+    start = time.perf_counter()
+    execute(tasks, RunnerOptions(workers=workers, qhull=False), rows.append)
+    wall = time.perf_counter() - start
+    bad = [r for r in rows if r["status"] != "pass"]
+    if bad:
+        raise SystemExit(f"{name}: {len(bad)} of {len(rows)} calls did not pass: {bad[0]['reason']}")
+    return wall
+
+
+def _steady(name: str, dim: int, calls: int, workers: int) -> float:
+    """Seconds per call in the steady state: (wall of 2K calls - wall of K calls) / K (worker starts cancel out)."""
+    return (_sweep_seconds(name, dim, 2 * calls, workers) - _sweep_seconds(name, dim, calls, workers)) / calls
+
+
+def _quick_profile(driver: Driver) -> tuple[int, float]:
+    """Calls and sweep wall seconds of the quick profile in persistent mode, 2 workers."""
+    with tempfile.TemporaryDirectory() as out:
+        spec = f"bench[dim={driver.dim},output={driver.output},mode=persistent]={shlex.join(driver.command)}"
+        proc = subprocess.run([sys.executable, "-m", "hullstress", "run", "--exec", spec, "--algorithm", "bench",
+                               "--workers", "2", "--no-shrink", "--quiet", "--out", out],
+                              capture_output=True, text=True, cwd=REPO)
+        if proc.returncode not in (0, 1):
+            raise SystemExit(f"quick profile of {driver.label}: exit {proc.returncode}: {proc.stderr[-500:]}")
+        meta = json.loads(next(Path(out).glob("*/run.json")).read_text())
+        return int(meta["calls"]), float(meta["runner"]["wall_seconds"])
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--calls", type=int, default=200,
+                        help="calls per round in this process; the runner's steady state uses 5 times as many "
+                        "(default 200)")
+    parser.add_argument("--out", type=Path, default=FIGURES, help=f"the Markdown table (default {FIGURES})")
+    args = parser.parse_args(argv)
+    from hullstress._registry import ALGORITHMS, register_executable
+    from hullstress.qhull_format import format_points
+
+    load_before = load_average()
+    lines = ["| driver | direct run | spawn mode, per judged call | hullstress's overhead per call (spawn) "
+             "| hullstress's CPU per call (spawn) | persistent, per judged call | persistent, runner, 24 points, "
+             "2 workers | persistent, quick profile, 2 workers |",
+             "|---|---|---|---|---|---|---|---|"]
+    with tempfile.TemporaryDirectory() as tmp:
+        for k, driver in enumerate(_drivers()):
+            points_file = Path(tmp) / f"points{driver.dim}.txt"
+            points_file.write_text(format_points(np.random.default_rng(0).random((POINTS, driver.dim))))
+            spawn_name, persistent_name = f"bench-spawn-{k}", f"bench-persistent-{k}"
+            register_executable(spawn_name, driver.command, dim=driver.dim, output=driver.output)
+            register_executable(persistent_name, driver.command, dim=driver.dim, output=driver.output,
+                                mode="persistent")
+            direct = _direct(driver, points_file)
+            spawn, spawn_cpu = _in_process(spawn_name, driver.dim, max(10, args.calls * driver.direct_runs // 400))
+            alone, _ = _in_process(persistent_name, driver.dim, args.calls)
+            persistent = _steady(persistent_name, driver.dim, args.calls * 5, workers=2)
+            calls, wall = _quick_profile(driver)
+            ALGORITHMS.remove(spawn_name)
+            ALGORITHMS.remove(persistent_name)
+            row = (f"| {driver.label} | {direct * 1e3:.2f} ms | {spawn * 1e3:.2f} ms | "
+                   f"{(spawn - direct) * 1e3:+.2f} ms | {spawn_cpu * 1e3:.2f} ms | "
+                   f"{alone * 1e3:.3f} ms ({1 / alone:,.0f} calls/s) | {1 / persistent:,.0f} calls/s | "
+                   f"{calls / wall:,.0f} calls/s ({calls} calls in {wall:.2f} s) |")
+            print(row, flush=True)
+            lines.append(row)
+    text = "\n".join([
+        f"Measured by `python benchmarks/bench_exec.py` on {time.strftime('%Y-%m-%d %H:%M %Z')}; "
+        f"load average {load_before} before, {load_average()} after.  Per-call figures are on {POINTS}-point "
+        "cases, judged as a worker judges them, best of 5 rounds; \"overhead\" is spawn mode minus the direct "
+        "run of the same program in the same run; the runner's steady state is (wall of 2K calls - wall of K "
+        "calls) / K.", "", *lines, ""])
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    args.out.write_text(text)
+    print(f"wrote {args.out}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
