@@ -15,6 +15,12 @@ quickhull3d drivers when built), in one run:
   (``python -m hullstress run --exec ... --workers 2``: its calls divided by
   its sweep's wall time, worker and program starts included).
 
+A second table compares, for the first driver, starting the program from a
+process the size of a worker (NumPy, SciPy and hullstress loaded) the way
+hullstress did before (``subprocess`` with a ``preexec_fn``, which forks the
+whole process) and the way it does now (``posix_spawn``), feeding and reading
+included, judging excluded.
+
 Every figure is measured in the same run; wall-clock figures are the best of
 several rounds, and on a loaded machine all of them are still depressed (the
 table's header gives the load).  Writes
@@ -121,6 +127,47 @@ def _in_process(name: str, dim: int, calls: int) -> tuple[float, float]:
     return best, cpu
 
 
+def _start_costs(driver: Driver) -> list[str]:
+    """Rows: wall and this process's CPU per start of the program, subprocess + preexec_fn vs posix_spawn."""
+    import ctypes
+    import resource
+    import signal
+
+    import hullstress.runner._preload  # noqa: F401  (a worker's imports: the size a fork copies)
+    from hullstress.adapters.exec_process import Program
+    from hullstress.qhull_format import format_points
+
+    data = format_points(np.random.default_rng(0).random((POINTS, driver.dim))).encode()
+    libc = ctypes.CDLL(None)
+
+    def die_with_parent() -> None:  # what the previous code ran between fork and exec
+        libc.prctl(1, int(signal.SIGKILL), 0, 0, 0)
+
+    def before() -> None:
+        subprocess.run(driver.command, input=data, capture_output=True, start_new_session=True,
+                       preexec_fn=die_with_parent, check=True)
+
+    def now() -> None:
+        program = Program(driver.command)
+        program.exchange(data, close_stdin=True)
+        program.wait()
+        program.kill()
+
+    rows = []
+    runs = max(5, driver.direct_runs // ROUNDS)
+    for label, start in (("subprocess + preexec_fn (before)", before), ("posix_spawn (now)", now)):
+        wall, cpu = float("inf"), float("inf")
+        for _ in range(ROUNDS):
+            t0, r0 = time.perf_counter(), resource.getrusage(resource.RUSAGE_SELF)
+            for _ in range(runs):
+                start()
+            r1 = resource.getrusage(resource.RUSAGE_SELF)
+            wall = min(wall, (time.perf_counter() - t0) / runs)
+            cpu = min(cpu, (r1.ru_utime + r1.ru_stime - r0.ru_utime - r0.ru_stime) / runs)
+        rows.append(f"| {driver.label} | {label} | {wall * 1e3:.2f} ms | {cpu * 1e3:.2f} ms |")
+    return rows
+
+
 def _sweep_seconds(name: str, dim: int, calls: int, workers: int) -> float:
     """Wall seconds of the isolated runner doing ``calls`` calls of ``name`` on distinct 24-point cases."""
     from hullstress import AlgorithmConfig
@@ -171,6 +218,7 @@ def main(argv: list[str] | None = None) -> int:
              "| hullstress's CPU per call (spawn) | persistent, per judged call | persistent, runner, 24 points, "
              "2 workers | persistent, quick profile, 2 workers |",
              "|---|---|---|---|---|---|---|---|"]
+    starts: list[str] = []
     with tempfile.TemporaryDirectory() as tmp:
         for k, driver in enumerate(_drivers()):
             points_file = Path(tmp) / f"points{driver.dim}.txt"
@@ -192,12 +240,17 @@ def main(argv: list[str] | None = None) -> int:
                    f"{calls / wall:,.0f} calls/s ({calls} calls in {wall:.2f} s) |")
             print(row, flush=True)
             lines.append(row)
+            if k == 0:
+                starts = _start_costs(driver)
+                print(*starts, sep="\n", flush=True)
     text = "\n".join([
         f"Measured by `python benchmarks/bench_exec.py` on {time.strftime('%Y-%m-%d %H:%M %Z')}; "
         f"load average {load_before} before, {load_average()} after.  Per-call figures are on {POINTS}-point "
         "cases, judged as a worker judges them, best of 5 rounds; \"overhead\" is spawn mode minus the direct "
         "run of the same program in the same run; the runner's steady state is (wall of 2K calls - wall of K "
-        "calls) / K.", "", *lines, ""])
+        "calls) / K.", "", *lines, "",
+        "Starting the program from a worker-sized process (feeding and reading included, judging excluded):", "",
+        "| driver | how | wall per start | this process's CPU per start |", "|---|---|---|---|", *starts, ""])
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(text)
     print(f"wrote {args.out}")
