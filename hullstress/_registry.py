@@ -357,19 +357,40 @@ def register_executable(
     """
     _check_name_and_dim("executable", name, dim)
     # Imported here: the adapter module is light, but the registry stays lighter.
-    from .adapters.executable import ExecutableHull, probe as probe_program
+    from .adapters.executable import ExecutableHull
 
     load_builtins()  # a clash with a built-in name is reported here, naming this program
     func = ExecutableHull.from_command(command, dim=int(dim), output=output, mode=mode)
-    if name in ALGORITHMS:  # before running anything: the registry's own message names both entries
-        ALGORITHMS.add(AlgorithmSpec(name=name, func=func, dim=int(dim), takes_eps=False,
-                                     origin=Origin.EXECUTABLE.value, summary=func.describe()))
-    if probe:
-        func = probe_program(func)
-    return ALGORITHMS.add(
+    spec = ALGORITHMS.add(  # before running anything: a clash names both entries
         AlgorithmSpec(name=name, func=func, dim=int(dim), takes_eps=False, origin=Origin.EXECUTABLE.value,
                       summary=func.describe(clockwise=bool(clockwise)), clockwise=bool(clockwise))
     )
+    if probe:
+        try:
+            spec = probe_executable(name)
+        except UsageError:
+            ALGORITHMS.remove(name)
+            raise
+    return spec
+
+
+def probe_executable(name: str) -> AlgorithmSpec:
+    """Run the registered program ``name`` once on a small case and keep what it says it is.
+
+    See :func:`hullstress.adapters.executable.probe`; ``--exec`` registers
+    every program first and probes them afterwards, so that a malformed
+    option or a duplicate name is reported before any program runs.
+
+    Raises
+    ------
+    UsageError
+        The program is refused (one line naming it and the problem).
+    """
+    from .adapters.executable import probe
+
+    spec = ALGORITHMS.get(name)
+    func = probe(spec.func)
+    return ALGORITHMS.replace(replace(spec, func=func, summary=func.describe(clockwise=spec.clockwise)))
 
 
 def set_clockwise(name: str, clockwise: bool = True) -> AlgorithmSpec:

@@ -105,17 +105,22 @@ def load_registrations(args: argparse.Namespace) -> None:
         A plug-in that cannot be imported, a malformed ``--exec``, a program
         not found, a name registered twice, an unknown ``--clockwise`` name.
     """
-    from .._registry import register_executable, set_clockwise
+    from .._registry import probe_executable, register_executable, set_clockwise
     from ..adapters.executable import parse_exec_spec
     from ..plugins import load_plugin
 
     for spec in getattr(args, "plugin", []):
         load_plugin(spec)
+    names = []
     for text in getattr(args, "exec_specs", []):
         name, command, options = parse_exec_spec(text)
-        register_executable(name, command, dim=options["dim"], output=options["output"], mode=options["mode"])
+        register_executable(name, command, dim=options["dim"], output=options["output"], mode=options["mode"],
+                            probe=False)
+        names.append(name)
     for name in getattr(args, "clockwise_names", []):
         set_clockwise(name)
+    for name in names:  # every option checked: now run each program once (refusing bad ones before the sweep)
+        probe_executable(name)
 
 
 def registration_args(args: argparse.Namespace) -> tuple[str, ...]:
