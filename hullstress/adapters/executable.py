@@ -224,8 +224,6 @@ def probe(hull: ExecutableHull, *, timeout: float = PROBE_TIMEOUT) -> Executable
     """
     import numpy as np
 
-    from ..errors import ContractViolation
-
     def refuse(problem: str) -> UsageError:
         return UsageError(f"--exec program {hull.command!r} {problem}")
 
