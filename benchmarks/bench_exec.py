@@ -10,7 +10,10 @@ quickhull3d drivers when built), in one run:
   facts, start, feed, read, parse, judge), and its overhead over **direct**:
   hullstress's own cost per call; also hullstress's own CPU time per call
   (this process's, the program's excluded), which a loaded machine does not inflate;
-* **persistent**: the time per judged call in this process, calls per second
+* **persistent**: the time per judged call in this process, the CPU time per
+  judged call of this process and of the program together (what a call costs
+  an idle core: its inverse is the calls per second one idle core sustains,
+  whatever the load when measuring), calls per second
   of the isolated runner with 2 workers on 24-point cases (starts included),
   and over the whole quick profile
   (``python -m hullstress run --exec ... --workers 2``: its calls divided by
@@ -36,6 +39,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import shlex
 import shutil
 import subprocess
@@ -104,8 +108,23 @@ def _cases(dim: int, count: int, seed: int) -> list:
     return [Case.from_points(rng.random((POINTS, dim))) for _ in range(count)]
 
 
-def _in_process(name: str, dim: int, calls: int) -> tuple[float, float]:
-    """Wall seconds per judged call (best of :data:`ROUNDS`) and this process's CPU seconds per call."""
+def _session_cpu() -> float:
+    """CPU seconds used so far by the persistent programs this process runs (Linux ``/proc``; 0 elsewhere)."""
+    from hullstress.adapters import exec_session
+
+    total = 0.0
+    for session in exec_session._sessions.values():
+        try:
+            fields = Path(f"/proc/{session.program.pid}/stat").read_text().rsplit(")", 1)[1].split()
+        except OSError:
+            continue
+        total += (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")  # utime, stime
+    return total
+
+
+def _in_process(name: str, dim: int, calls: int) -> tuple[float, float, float]:
+    """Per judged call: wall seconds (best of :data:`ROUNDS`), this process's CPU seconds, and the
+    persistent program's CPU seconds (0 in spawn mode), each the best round."""
     import resource
 
     from hullstress import AlgorithmConfig
@@ -114,9 +133,9 @@ def _in_process(name: str, dim: int, calls: int) -> tuple[float, float]:
     config = AlgorithmConfig(name)
     cases = _cases(dim, calls, 1)
     evaluate(cases[0], config, qhull=False)  # a persistent program starts here, not in the rounds
-    best, cpu = float("inf"), float("inf")
+    best, cpu, program_cpu = float("inf"), float("inf"), float("inf")
     for _ in range(ROUNDS):
-        before = resource.getrusage(resource.RUSAGE_SELF)
+        before, program_before = resource.getrusage(resource.RUSAGE_SELF), _session_cpu()
         start = time.perf_counter()
         for case in cases:
             row = evaluate(case, config, qhull=False)
@@ -125,7 +144,8 @@ def _in_process(name: str, dim: int, calls: int) -> tuple[float, float]:
         best = min(best, (time.perf_counter() - start) / calls)
         after = resource.getrusage(resource.RUSAGE_SELF)
         cpu = min(cpu, (after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime) / calls)
-    return best, cpu
+        program_cpu = min(program_cpu, (_session_cpu() - program_before) / calls)
+    return best, cpu, program_cpu
 
 
 def _start_costs(driver: Driver) -> list[str]:
@@ -220,9 +240,10 @@ def main(argv: list[str] | None = None) -> int:
 
     load_before = load_average()
     lines = ["| driver | direct run | spawn mode, per judged call | hullstress's overhead per call (spawn) "
-             "| hullstress's CPU per call (spawn) | persistent, per judged call | persistent, runner, 24 points, "
+             "| hullstress's CPU per call (spawn) | persistent, per judged call | persistent, CPU per judged call "
+             "(hullstress + program; calls/s per idle core) | persistent, runner, 24 points, "
              "2 workers, starts included | persistent, quick profile, 2 workers |",
-             "|---|---|---|---|---|---|---|---|"]
+             "|---|---|---|---|---|---|---|---|---|"]
     starts: list[str] = []
     with tempfile.TemporaryDirectory() as tmp:
         for k, driver in enumerate(_drivers()):
@@ -233,15 +254,17 @@ def main(argv: list[str] | None = None) -> int:
             register_executable(persistent_name, driver.command, dim=driver.dim, output=driver.output,
                                 mode="persistent")
             direct = _direct(driver, points_file)
-            spawn, spawn_cpu = _in_process(spawn_name, driver.dim, max(10, args.calls * driver.direct_runs // 400))
-            alone, _ = _in_process(persistent_name, driver.dim, args.calls)
+            spawn, spawn_cpu, _ = _in_process(spawn_name, driver.dim, max(10, args.calls * driver.direct_runs // 400))
+            alone, alone_cpu, program_cpu = _in_process(persistent_name, driver.dim, args.calls)
             persistent = _runner_rate(persistent_name, driver.dim, args.calls * 10, workers=2)
             calls, wall = _quick_profile(driver)
             ALGORITHMS.remove(spawn_name)
             ALGORITHMS.remove(persistent_name)
             row = (f"| {driver.label} | {direct * 1e3:.2f} ms | {spawn * 1e3:.2f} ms | "
                    f"{(spawn - direct) * 1e3:+.2f} ms | {spawn_cpu * 1e3:.2f} ms | "
-                   f"{alone * 1e3:.3f} ms ({1 / alone:,.0f} calls/s) | {persistent:,.0f} calls/s | "
+                   f"{alone * 1e3:.3f} ms ({1 / alone:,.0f} calls/s) | "
+                   f"{(alone_cpu + program_cpu) * 1e3:.3f} ms ({1 / (alone_cpu + program_cpu):,.0f} calls/s) | "
+                   f"{persistent:,.0f} calls/s | "
                    f"{calls / wall:,.0f} calls/s ({calls} calls in {wall:.2f} s) |")
             print(row, flush=True)
             lines.append(row)

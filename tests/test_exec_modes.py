@@ -189,3 +189,30 @@ def test_the_probe_learns_the_version_in_both_modes(monotone_chain):
         hull = probe(ExecutableHull.from_command(monotone_chain, dim=2, output="Fx", mode=mode))
         assert (hull.driver, hull.library) == ("monotone_chain example 1.0", "none")
         assert "[monotone_chain example 1.0; none]" in hull.describe()
+
+
+KIT_EXAMPLES = {
+    "python": ([PY, str(REPO / "drivers" / "examples" / "scipy_driver.py")], 3, "i", "scipy "),
+    "javascript": (["node", str(REPO / "drivers" / "examples" / "monotone_chain.mjs")], 2, "Fx", "none"),
+}
+
+
+@pytest.mark.parametrize("kit", sorted(KIT_EXAMPLES))
+def test_the_kit_examples_hull_correctly_in_both_modes(kit):
+    from hullstress.evaluate import evaluate
+
+    command, dim, output, library = KIT_EXAMPLES[kit]
+    if shutil.which(command[0]) is None:
+        pytest.skip(f"needs {command[0]}: apt-get install nodejs")
+    rng = np.random.default_rng(11)
+    cases = [Case.from_points(rng.normal(size=(n, dim))) for n in (5, 40, 300)]
+    for mode in ("spawn", "persistent"):
+        name = f"kit-{kit}-{mode}"
+        spec = register_executable(name, command, dim=dim, output=output, mode=mode)
+        try:
+            assert spec.func.library.startswith(library), spec.func
+            for case in cases:
+                row = evaluate(case, AlgorithmConfig(name), qhull=False)
+                assert row["status"] == "pass", (mode, row["reason"])
+        finally:
+            ALGORITHMS.remove(name)

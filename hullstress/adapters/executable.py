@@ -286,7 +286,7 @@ def probe(hull: ExecutableHull, *, timeout: float = PROBE_TIMEOUT) -> Executable
     if not text.strip():
         raise refuse(f"printed nothing for a {len(points)}-point case in general position")
     _check_probe_answer(hull, text, points, refuse)
-    return replace(hull, **_version_of(hull))
+    return replace(hull, **_version_of(hull, timeout))
 
 
 def _ended_how(returncode: int | None) -> str:
@@ -318,14 +318,18 @@ def _check_probe_answer(hull: ExecutableHull, text: str, points: Any, refuse: An
                      f"points are [0, 1, 2, 3]: is it a {hull.dim}D program writing '{hull.output}'?")
 
 
-def _version_of(hull: ExecutableHull) -> dict[str, str]:
-    """What ``COMMAND --version`` says (a handshake line, or free text), within the probe's time; {} when nothing."""
+def _version_of(hull: ExecutableHull, timeout: float) -> dict[str, str]:
+    """What ``COMMAND --version`` says (a handshake line, or free text) within ``timeout`` s; {} when nothing.
+
+    Its stdin is closed at once: a program that does not know ``--version``
+    reads an empty case, fails or prints nothing, and says nothing here.
+    """
     try:
         program = Program((hull.program, *hull.argv[1:], "--version"))
     except OSError:
         return {}
     try:
-        program.exchange(b"", close_stdin=True, deadline=time.monotonic() + 2.0)
+        program.exchange(b"", close_stdin=True, deadline=time.monotonic() + timeout)
         returncode = program.wait()
     except ProgramTimedOut:
         return {}
