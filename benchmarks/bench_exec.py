@@ -23,7 +23,9 @@ A second table compares, for the first driver, starting the program from a
 process the size of a worker (NumPy, SciPy and hullstress loaded) the way
 hullstress did before (``subprocess`` with a ``preexec_fn``, which forks the
 whole process) and the way it does now (``posix_spawn``), feeding and reading
-included, judging excluded.
+included, judging excluded.  A third table times ``qconvex Qt i`` through the
+Python wrapper that ``pip install cmeel-qhull`` puts on PATH and as the real
+binary that hullstress runs in its place.
 
 Every figure is measured in the same run; wall-clock figures are the best of
 several rounds, and on a loaded machine all of them are still depressed (the
@@ -189,6 +191,29 @@ def _start_costs(driver: Driver) -> list[str]:
     return rows
 
 
+def _wrapper_costs() -> list[str]:
+    """Rows: ``qconvex Qt i`` on 100 points through cmeel-qhull's Python wrapper on PATH and as the real binary.
+
+    Empty when ``qconvex`` is not installed or is not a wrapper.
+    """
+    from hullstress.adapters.executable import locate_program
+    from hullstress.qhull_format import format_points
+
+    wrapper, real = shutil.which("qconvex"), locate_program("qconvex")
+    if wrapper is None or real is None or Path(wrapper).resolve() == Path(real).resolve():
+        return []
+    data = format_points(np.random.default_rng(0).random((100, 3))).encode()
+    rows = []
+    for label, program in (("the wrapper on PATH", wrapper), ("the real binary (what hullstress runs)", real)):
+        best = float("inf")
+        for _ in range(ROUNDS):
+            start = time.perf_counter()
+            subprocess.run([program, "Qt", "i"], input=data, capture_output=True, check=True)
+            best = min(best, time.perf_counter() - start)
+        rows.append(f"| `qconvex Qt i`, 100 points | {label}: `{program}` | {best * 1e3:.1f} ms |")
+    return rows
+
+
 def _sweep_seconds(name: str, dim: int, calls: int, workers: int) -> float:
     """Wall seconds of the isolated runner doing ``calls`` calls of ``name`` on distinct 24-point cases."""
     from hullstress import AlgorithmConfig
@@ -279,6 +304,11 @@ def main(argv: list[str] | None = None) -> int:
         "divided by the wall time of the whole execution, worker and program starts included.", "", *lines, "",
         "Starting the program from a worker-sized process (feeding and reading included, judging excluded):", "",
         "| driver | how | wall per start | this process's CPU per start |", "|---|---|---|---|", *starts, ""])
+    wrapper = _wrapper_costs()
+    if wrapper:
+        print(*wrapper, sep="\n")
+        text += "\n".join(["Qhull's `qconvex` from `pip install cmeel-qhull` (best of 5 runs each):", "",
+                           "| program | run | wall per run |", "|---|---|---|", *wrapper, ""])
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(text)
     print(f"wrote {args.out}")
