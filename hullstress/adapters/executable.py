@@ -459,6 +459,9 @@ def run_persistent(hull: ExecutableHull, points: Any, *, deadline: float | None 
         drop_session(key)
         _forward(session.take_stderr())
         why = str(exc)
+    except BaseException:
+        drop_session(key)  # interrupted mid-case (an alarm with --workers 0): its answer would be out of step
+        raise
     else:
         _forward(session.take_stderr())
         if message is not None:
