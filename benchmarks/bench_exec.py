@@ -307,7 +307,7 @@ def main(argv: list[str] | None = None) -> int:
     wrapper = _wrapper_costs()
     if wrapper:
         print(*wrapper, sep="\n")
-        text += "\n".join(["Qhull's `qconvex` from `pip install cmeel-qhull` (best of 5 runs each):", "",
+        text += "\n".join(["", "Qhull's `qconvex` from `pip install cmeel-qhull` (best of 5 runs each):", "",
                            "| program | run | wall per run |", "|---|---|---|", *wrapper, ""])
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(text)
