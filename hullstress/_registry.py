@@ -316,6 +316,8 @@ def register_executable(
     output: str = "i",
     clockwise: bool = False,
     contract: HullContract | str | None = None,
+    mode: str = "spawn",
+    probe: bool = True,
 ) -> AlgorithmSpec:
     """Register a program in any language as a hull algorithm.
 
@@ -347,10 +349,26 @@ def register_executable(
         ``i`` does (2D: a clockwise polygon); they are reversed before checking.
     contract : HullContract or str, optional
         What the program promises (as for :func:`register_algorithm`; lenient by default).
+    mode : {"spawn", "persistent"}
+        ``spawn``: one process per case.  ``persistent``: the program starts
+        once per worker and answers case after case over the protocol of
+        :mod:`hullstress.adapters.exec_protocol` (a handshake, then framed cases).
+    probe : bool
+        Run the program once now on five points in general position
+        (:func:`hullstress.adapters.executable.probe`): a program that cannot
+        start, prints nothing, never answers its handshake or speaks another
+        dimension is refused here; what it says it is (its handshake or
+        ``--version``) is kept for ``run.json`` and the report.
 
     Returns
     -------
     AlgorithmSpec
+
+    Raises
+    ------
+    UsageError
+        A bad option, a program not found, a name already registered, a
+        failed probe: one line naming the program and the problem.
 
     Examples
     --------
@@ -366,12 +384,38 @@ def register_executable(
 
     load_builtins()  # a clash with a built-in name is reported here, naming this program
     declared = as_contract(contract)
-    func = ExecutableHull.from_command(command, dim=int(dim), output=output)
+    func = ExecutableHull.from_command(command, dim=int(dim), output=output, mode=mode)
     clockwise = bool(clockwise) or declared.orientation == "cw"
-    return ALGORITHMS.add(
+    spec = ALGORITHMS.add(  # before running anything: a clash names both entries
         AlgorithmSpec(name=name, func=func, dim=int(dim), takes_eps=False, origin=Origin.EXECUTABLE.value,
                       summary=func.describe(clockwise=clockwise), clockwise=clockwise, contract=declared)
     )
+    if probe:
+        try:
+            spec = probe_executable(name)
+        except UsageError:
+            ALGORITHMS.remove(name)
+            raise
+    return spec
+
+
+def probe_executable(name: str) -> AlgorithmSpec:
+    """Run the registered program ``name`` once on a small case and keep what it says it is.
+
+    See :func:`hullstress.adapters.executable.probe`; ``--exec`` registers
+    every program first and probes them afterwards, so that a malformed
+    option or a duplicate name is reported before any program runs.
+
+    Raises
+    ------
+    UsageError
+        The program is refused (one line naming it and the problem).
+    """
+    from .adapters.executable import probe
+
+    spec = ALGORITHMS.get(name)
+    func = probe(spec.func)
+    return ALGORITHMS.replace(replace(spec, func=func, summary=func.describe(clockwise=spec.clockwise)))
 
 
 def set_clockwise(name: str, clockwise: bool = True) -> AlgorithmSpec:

@@ -109,9 +109,10 @@ def test_formats_round_trip_through_the_parser():
 
 
 EXEC_SPECS = [
-    ("qconvex=qconvex Qt i", ("qconvex", "qconvex Qt i", {"dim": 3, "output": "i"})),
-    ("q2[dim=2,output=Fx]=qconvex Fx", ("q2", "qconvex Fx", {"dim": 2, "output": "Fx"})),
-    ("m[output=off]=my-hull --off", ("m", "my-hull --off", {"dim": 3, "output": "off"})),
+    ("qconvex=qconvex Qt i", ("qconvex", "qconvex Qt i", {"dim": 3, "output": "i", "mode": "spawn"})),
+    ("q2[dim=2,output=Fx]=qconvex Fx", ("q2", "qconvex Fx", {"dim": 2, "output": "Fx", "mode": "spawn"})),
+    ("m[output=off]=my-hull --off", ("m", "my-hull --off", {"dim": 3, "output": "off", "mode": "spawn"})),
+    ("p[dim=2,mode=persistent]=drv", ("p", "drv", {"dim": 2, "output": "i", "mode": "persistent"})),
 ]
 
 
@@ -125,7 +126,9 @@ BAD_EXEC_SPECS = [
     ("=qconvex", "expected NAME=COMMAND"),
     ("q=", "expected NAME=COMMAND"),
     ("q[dim=4]=qconvex", "dim must be one of 2, 3, got '4'"),
-    ("q[colour=red]=qconvex", "unknown option 'colour'; valid options: dim=2|3, output=i|Fx|off"),
+    ("q[colour=red]=qconvex", "unknown option 'colour'; valid options: dim=2|3, output=i|Fx|off, "
+                              "mode=spawn|persistent"),
+    ("q[mode=fork]=qconvex", "mode must be one of spawn, persistent, got 'fork'"),
     ("q[output=o]=qconvex", "output must be one of i, Fx, off, got 'o'"),
 ]
 

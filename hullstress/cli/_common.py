@@ -91,9 +91,11 @@ def add_registration_options(parser: argparse.ArgumentParser, *, clockwise: bool
                         help="import a module or .py file that registers algorithms or generators (repeatable)")
     parser.add_argument("--exec", action="append", default=[], metavar="NAME=COMMAND", dest="exec_specs",
                         help="register a program in any language as algorithm NAME (repeatable): it reads "
-                        "Qhull-format points on stdin and writes its hull on stdout; NAME[dim=2|3,output=i|Fx|off] "
-                        "sets the dimension (default 3) and the output format (default i: Qhull's facet "
-                        "indices; Fx: 2D extreme points; off: OFF), e.g. qconvex='qconvex Qt i'")
+                        "Qhull-format points on stdin and writes its hull on stdout; NAME[dim=2|3,output=i|Fx|off,"
+                        "mode=spawn|persistent] sets the dimension (default 3), the output format (default i: "
+                        "Qhull's facet indices; Fx: 2D extreme points; off: OFF) and the mode (default spawn: one "
+                        "process per case; persistent: one per worker, answering case after case, see "
+                        "docs/executables.md), e.g. qconvex='qconvex Qt i'")
     if clockwise:
         parser.add_argument("--clockwise", action="append", default=[], metavar="NAME", dest="clockwise_names",
                             help="algorithm NAME writes faces clockwise seen from outside (as Qhull's 3D 'i' "
@@ -115,16 +117,19 @@ def load_registrations(args: argparse.Namespace) -> None:
         A plug-in that cannot be imported, a malformed ``--exec``, a program
         not found, a name registered twice, an unknown ``--clockwise`` name.
     """
-    from .._registry import register_executable, set_clockwise, set_contract
+    from .._registry import probe_executable, register_executable, set_clockwise, set_contract
     from ..errors import UsageError
     from ..adapters.executable import parse_exec_spec
     from ..plugins import load_plugin
 
     for spec in getattr(args, "plugin", []):
         load_plugin(spec)
+    names = []
     for text in getattr(args, "exec_specs", []):
         name, command, options = parse_exec_spec(text)
-        register_executable(name, command, dim=options["dim"], output=options["output"])
+        register_executable(name, command, dim=options["dim"], output=options["output"], mode=options["mode"],
+                            probe=False)
+        names.append(name)
     for name in getattr(args, "clockwise_names", []):
         set_clockwise(name)
     for text in getattr(args, "contract_specs", []):
@@ -132,6 +137,8 @@ def load_registrations(args: argparse.Namespace) -> None:
         if not sep or not name.strip():
             raise UsageError(f"--contract {text!r}: expected NAME=CONTRACT (e.g. my-hull=strict)")
         set_contract(name.strip(), contract)
+    for name in names:  # every option checked: now run each program once (refusing bad ones before the sweep)
+        probe_executable(name)
 
 
 def registration_args(args: argparse.Namespace) -> tuple[str, ...]:

@@ -140,6 +140,12 @@ def summary_markdown(
              f"Profile `{meta.get('profile')}`, seed {meta.get('seed')}: {len(table)} calls over {n_cases} cases, "
              f"sweep {float(wall):.1f} s; {state}.",
              "Calls: " + ", ".join(f"{int(counts.get(s, 0))} {s}" for s in STATUSES) + ".", ""]
+    programs = meta.get("executables") or {}
+    if programs:
+        lines[-1:-1] = ["Programs: " + "; ".join(
+            f"`{name}` = `{p.get('command')}` ({p.get('mode')}"
+            + "".join(f", {p[k]}" for k in ("driver", "library") if p.get(k)) + ")"
+            for name, p in sorted(programs.items())) + "."]
     folders = folders or {}
     if causes is None:
         lines += ["Triage has not run yet: failure groups and causes follow when it has.", ""]

@@ -140,6 +140,14 @@ class OutputLog:
                 pass
 
 
+def executables_in_use() -> dict[str, dict[str, str]]:
+    """What each registered ``--exec`` program is: command, mode, and the driver and library it named."""
+    from .._registry import ALGORITHMS
+
+    return {spec.name: spec.func.identity() for spec in ALGORITHMS.specs()
+            if callable(getattr(spec.func, "identity", None))}
+
+
 def package_versions() -> dict[str, str]:
     """Versions of hullstress, Python and the libraries that shape results (read once per process)."""
     return dict(_versions())
@@ -235,6 +243,7 @@ def run_metadata(
             "check_seconds": round(check, 3),
         },
         "skipped": skipped,
+        "executables": executables_in_use(),
     }
     if extra:
         meta.update(extra)

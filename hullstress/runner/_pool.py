@@ -33,6 +33,7 @@ import multiprocessing
 import os
 import pickle
 import select
+import signal
 import threading
 import time
 from collections import deque
@@ -71,6 +72,22 @@ MAX_DEATHS_OUTSIDE_CALLS = 2
 _HAVE_POLL = hasattr(select, "poll")
 # Starting a child flips the (process-wide) daemon flag in a daemonic parent; serialise starts.
 _start_lock = threading.Lock()
+
+
+def _kill_group(proc: Any) -> None:
+    """Kill a worker and the programs it started (``--exec``): they share its process group.
+
+    A worker leads its own group from its first instructions
+    (:func:`hullstress.adapters.exec_process.programs_die_with_process_group`); one
+    killed before that has no group yet, and started no program.
+    """
+    try:
+        if proc.pid is not None and os.getpgid(proc.pid) == proc.pid:
+            os.killpg(proc.pid, signal.SIGKILL)
+            return
+    except (OSError, AttributeError):  # no such group yet, or no process groups here
+        pass
+    proc.kill()
 
 
 @contextmanager
@@ -316,7 +333,7 @@ class WorkerPool:
         if proc is None:
             return None
         if proc.is_alive():
-            proc.kill()
+            _kill_group(proc)
         proc.join(5.0)
         code = proc.exitcode
         if slot.conn is not None:
@@ -364,7 +381,7 @@ class WorkerPool:
         self._adopt_quietly()
         for slot in self._slots:
             if slot.proc is not None and slot.proc.is_alive():
-                slot.proc.kill()
+                _kill_group(slot.proc)
         for slot in self._slots:
             self._kill(slot)
             slot.jobs.clear()

@@ -11,6 +11,9 @@ A worker runs untrusted code, so it is set up to fail in recordable ways:
   touched) plus ``--memory-limit``.  An address-space limit below what a
   process maps already refuses only new mappings, which a warm worker rarely
   needs: that is why ``--memory-limit 1`` used to change nothing;
+* it leads a process group of its own, which the programs it starts
+  (``--exec``) share: the pool kills the group, so a hung program dies with
+  its worker (:mod:`hullstress.adapters.exec_process`);
 * SIGINT is ignored: Ctrl-C in a terminal reaches the whole process group,
   and it is the parent's job to stop the sweep and kill the workers;
 * on Linux, ``PR_SET_PDEATHSIG`` kills it when its parent (the fork server)
@@ -27,6 +30,7 @@ import os
 import signal
 from multiprocessing.connection import Connection
 
+from ..adapters.exec_process import programs_die_with_process_group
 from ..forkserver import die_with_parent
 
 __all__ = ["worker_main", "THREAD_ENV", "DEFERRED_MESSAGES"]
@@ -94,6 +98,7 @@ def worker_main(conn: Connection, limit_bytes: int | None) -> None:
     """
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     die_with_parent()
+    programs_die_with_process_group()
     for key, value in THREAD_ENV.items():
         os.environ.setdefault(key, value)
 

@@ -15,6 +15,10 @@ counter-clockwise), and misbehaves as its first argument says:
 ``exit``        says "boom: cannot hull this" on stderr and exits with status 3
 ``chatty``      the correct hull, with a warning on stderr
 
+The bugs show on six points or more: the five-point case hullstress runs
+once when it registers a program (its probe, which refuses programs that
+cannot hull at all) gets the correct hull.
+
 Pure Python on purpose: it starts fast.
 """
 
@@ -50,8 +54,8 @@ def hull(points):
 
 
 def main():
-    mode = sys.argv[1]
     points = read_points(sys.stdin.read())
+    mode = sys.argv[1] if len(points) >= 6 else "ok"
     if mode == "segv":
         os.kill(os.getpid(), signal.SIGSEGV)
     if mode == "hang":
