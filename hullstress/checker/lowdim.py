@@ -480,14 +480,9 @@ def judge_lower_dimensional(
     pts = np.asarray(points, dtype=np.float64)
     n, dim = pts.shape
     hull = lower_dimensional_hull(pts, simplex)
-    if isinstance(faces, FaceSet):
-        if dim != 3:
-            raise ContractViolation("a FaceSet describes a 3D surface, got 2D points")
-        if faces.indices.size and (faces.indices.min() < 0 or faces.indices.max() >= n):
-            raise ContractViolation(f"faces hold an index out of range for {n} points")
-        answer: np.ndarray | FaceSet = faces
-    else:
-        answer = normalize_output(faces, n, dim, min_face_size=1)
+    if isinstance(faces, FaceSet) and dim != 3:
+        raise ContractViolation("a FaceSet describes a 3D surface, got 2D points")
+    answer: np.ndarray | FaceSet = normalize_output(faces, n, dim, min_face_size=1)  # FaceSets too (F6)
     if isinstance(answer, FaceSet) and hull.rank >= 2:
         require_face_size(answer)
     rep = _representatives(pts)

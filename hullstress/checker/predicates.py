@@ -107,8 +107,11 @@ def _rows(points: Sequence, dim: int) -> tuple[list[np.ndarray], int]:
         if a.ndim != 2 or a.shape[1] != dim:
             raise ValueError(f"argument {i} must have shape (k, {dim}) or ({dim},), got {np.shape(p)}")
         arrs.append(a)
-    k = max(a.shape[0] for a in arrs)
-    if any(a.shape[0] not in (1, k) for a in arrs):
+    # numpy's rule: counts of 1 stretch to the others, which must agree (0 included: a
+    # batch of no rows against one fixed point is empty, issue 33 F8).
+    counts = {a.shape[0] for a in arrs} - {1}
+    k = counts.pop() if len(counts) == 1 else 1
+    if counts:
         raise ValueError(f"arguments must broadcast: got row counts {[a.shape[0] for a in arrs]}")
     return arrs, k
 
@@ -265,10 +268,14 @@ def _dd_eval3(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz) -> tuple[np.ndarra
 def _decided(det: np.ndarray, errbound: np.ndarray, noise: np.ndarray | float) -> np.ndarray:
     """Rows whose float determinant has a certain sign.
 
-    NaN and inf (overflow) compare false, so such rows stay undecided.
+    A row is decided only when ``det`` is finite (no intermediate overflowed:
+    an inf or NaN intermediate never turns finite again under ``+ - *``) and
+    exceeds a finite bound.  An infinite ``det`` with a finite bound is *not*
+    decided: the bound is computed along another path ((tiny x huge) x huge)
+    and can stay finite where the determinant's products overflow (issue 33, F1).
     """
     with np.errstate(invalid="ignore", over="ignore"):
-        return np.abs(det) > errbound * _SLACK + noise
+        return np.isfinite(det) & (np.abs(det) > errbound * _SLACK + noise)
 
 
 def _to_ints(cols: list[np.ndarray], *, exponents: bool = False):
@@ -342,7 +349,11 @@ def filter2_columns(diff: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """
     left = diff[0, 0] * diff[1, 1]
     right = diff[1, 0] * diff[0, 1]
-    return left - right, CCW_ERRBOUND_A * (np.abs(left) + np.abs(right)) * _SLACK + _TINY
+    det = left - right
+    bound = CCW_ERRBOUND_A * (np.abs(left) + np.abs(right)) * _SLACK + _TINY
+    # inf - finite is inf, and |left| + |right| is then inf too; NaN compares false.  Kept
+    # explicit so no later change of the bound can let an overflowed row through.
+    return det, np.where(np.isfinite(det), bound, np.inf)
 
 
 def filter3_columns(diff: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -355,8 +366,10 @@ def filter3_columns(diff: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     det = _det3_value(*(diff[c, i] for i in range(3) for c in range(3)))
     absolute = np.abs(diff)
     norms = absolute.sum(axis=0)  # (|x| + |y|) + |z| of each row, slab by slab
-    noise = _TINY * (1.0 + absolute[2, 0] + absolute[2, 1] + absolute[2, 2])
-    return det, O3D_ERRBOUND_A * ((norms[0] * norms[1]) * norms[2]) * _SLACK + noise
+    noise = _TINY * (((1.0 + norms[0]) + norms[1]) + norms[2])
+    bound = O3D_ERRBOUND_A * ((norms[0] * norms[1]) * norms[2]) * _SLACK + noise
+    # An overflowed determinant is undecided: its bound must not be beaten by inf (F1).
+    return det, np.where(np.isfinite(det), bound, np.inf)
 
 
 def _det3_value(adx, ady, adz, bdx, bdy, bdz, cdx, cdy, cdz):
@@ -377,7 +390,10 @@ def _det3(adx, ady, adz, bdx, bdy, bdz, cdx, cdy, cdz):
     norm_a = np.abs(adx) + np.abs(ady) + aadz
     norm_b = np.abs(bdx) + np.abs(bdy) + abdz
     norm_c = np.abs(cdx) + np.abs(cdy) + acdz
-    noise = _TINY * (1.0 + aadz + abdz + acdz)
+    # The underflow term covers (see the module docstring) the products that underflow in
+    # ``det`` (each at most 2**-1075, then times a z difference) and in the bound itself
+    # (``norm_a * norm_b`` sinking below the normal range loses 2**-1075 times ``norm_c``).
+    noise = _TINY * (((1.0 + norm_a) + norm_b) + norm_c)
     return det, O3D_ERRBOUND_A * ((norm_a * norm_b) * norm_c), noise
 
 
@@ -684,6 +700,8 @@ def _orient_mean(dim: int, fixed: list, ds: Sequence[np.ndarray]) -> np.ndarray:
             magnitude = magnitude + np.abs(det)
         # Summing m terms in float adds at most (m - 1) * eps relative to the sum of magnitudes.
         bound = bound + (len(ds) * 2.0 * _EPS) * magnitude
+        # Every term must be finite: an overflowed term makes ``total`` inf or NaN (F1).
+        bound = np.where(np.isfinite(magnitude), bound, np.inf)
         sign = np.sign(total).astype(np.int8)
         todo = np.flatnonzero(~_decided(total, bound, 0.0))
     if todo.size:

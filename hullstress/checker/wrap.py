@@ -175,8 +175,9 @@ def break_ties_2d(s: np.ndarray, a: np.ndarray, center: np.ndarray | None, inter
         return
     t = a[tie]
     if center is not None:
-        first = np.sign(center[1] - t[:, 1]).astype(np.int8)
-        second = np.sign(t[:, 0] - center[0]).astype(np.int8)
+        # Comparisons, not differences: exact for every finite float (no rounding, no overflow).
+        first = (center[1] > t[:, 1]).astype(np.int8) - (center[1] < t[:, 1]).astype(np.int8)
+        second = (t[:, 0] > center[0]).astype(np.int8) - (t[:, 0] < center[0]).astype(np.int8)
     else:
         ones = np.ones(len(t))
         rows = interior.rows
