@@ -130,19 +130,24 @@ def _outside_magnitude(p2: np.ndarray, sign: int) -> float:
     polygons already found not convex.
     """
     k = len(p2)
-    u = np.roll(p2, -1, axis=0) - p2
-    with np.errstate(all="ignore"):
+    with np.errstate(all="ignore"):  # differences overflow near the top of the range: inf, then 0 below
+        u = np.roll(p2, -1, axis=0) - p2
         length = np.sqrt(np.einsum("ij,ij->i", u, u))
     worst = 0.0
     rows = max(1, _PAIR_CHUNK // k)
     for start in range(0, k, rows):
         e = slice(start, min(k, start + rows))
-        w = p2[None, :, :] - p2[e][:, None, :]
         with np.errstate(all="ignore"):
+            w = p2[None, :, :] - p2[e][:, None, :]
             cross = u[e][:, 0, None] * w[:, :, 1] - u[e][:, 1, None] * w[:, :, 0]
             dist = np.nan_to_num(-sign * cross / length[e][:, None], nan=0.0, posinf=0.0, neginf=0.0)
         worst = max(worst, float(dist.max()))
     return worst
+
+
+def _cmp(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """``sign(x - y)`` exactly, as int8, without computing the difference."""
+    return (x > y).astype(np.int8) - (x < y).astype(np.int8)
 
 
 def _polygon_defects(points: np.ndarray, faces: FaceSet, plane: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -186,11 +191,11 @@ def _polygon_defects(points: np.ndarray, faces: FaceSet, plane: np.ndarray) -> t
     turn = orient2d(prev, p2, nxt) * ref_sign[local]
     reflex = turn < 0
     # Straight on is allowed (a vertex on an edge), turning back is not.
-    with np.errstate(over="ignore"):
-        back = (turn == 0) & np.any(np.sign(p2 - prev) * np.sign(nxt - p2) < 0, axis=1)
+    # Signs by comparison: exact, and no difference to overflow near the top of the range.
+    back = (turn == 0) & np.any(_cmp(p2, prev) * _cmp(nxt, p2) < 0, axis=1)
     wrong = reflex | back
     # The edge directions turn once around: their x-signs change exactly twice (zeros skipped).
-    sx = np.sign(nxt[:, 0] - p2[:, 0]).astype(np.int8)
+    sx = _cmp(nxt[:, 0], p2[:, 0])
     keep = np.flatnonzero(sx != 0)
     f_keep, s_keep = local[keep], sx[keep]
     group_start = np.r_[True, f_keep[1:] != f_keep[:-1]]

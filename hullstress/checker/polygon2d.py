@@ -110,10 +110,11 @@ def self_intersections(points: np.ndarray, poly: np.ndarray) -> np.ndarray:
     # Consecutive edges fold back when collinear and the far ends lie on the same side.
     c = points[np.roll(poly, -2)]
     col = orient2d(a, b, c) == 0
-    # Same side of b on some axis.  A float difference never has the wrong sign,
-    # but the product of two could underflow to 0 or overflow: compare signs.
-    with np.errstate(over="ignore"):  # an overflow to +-inf keeps the sign
-        back = col & np.any(np.sign(a - b) * np.sign(c - b) > 0, axis=1)
+    # Same side of b on some axis, by comparisons (exact; a product of differences could
+    # underflow to 0 or overflow).
+    side_a = (a > b).astype(np.int8) - (a < b).astype(np.int8)
+    side_c = (c > b).astype(np.int8) - (c < b).astype(np.int8)
+    back = col & np.any(side_a * side_c > 0, axis=1)
     bad |= back
     bad[np.flatnonzero(back) + 1 - k] = True
     lo, hi = np.minimum(a, b), np.maximum(a, b)
