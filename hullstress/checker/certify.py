@@ -25,6 +25,10 @@ from .topology import check_topology, half_edges
 
 __all__ = ["Certificate", "certify"]
 
+#: Corners (face-vertex slots) up to which an oversized answer still gets the general checks and
+#: their detailed reasons; beyond, :func:`oversized` answers are judged in linear time.
+_FULL_CHECKS_UP_TO = 30_000
+
 
 def certify(points: np.ndarray, faces: np.ndarray | FaceSet, *, seed: int = 0, batched: bool = True) -> Certificate:
     """Run containment, convexity and manifoldness exactly, and classify the vertices.
@@ -58,7 +62,7 @@ def certify(points: np.ndarray, faces: np.ndarray | FaceSet, *, seed: int = 0, b
             if quick is not None:
                 return quick
         return _certify2(points, poly, seed)
-    if oversized(faces, len(points)):
+    if len(faces.indices) > _FULL_CHECKS_UP_TO and oversized(faces, len(points)):
         return _certify3_oversized(points, faces)
     if batched and triangle_array(faces) is not None:
         quick = certify_closed_mesh(points, faces, seed=seed)

@@ -119,6 +119,8 @@ def _projection(points: np.ndarray, plane: np.ndarray, big: np.ndarray) -> tuple
 
 
 _PAIRS = np.array([(0, 1), (1, 2), (2, 0)])
+#: Half-edges on one edge up to which every pair of them is tested (:func:`_edge_pairs`).
+_ALL_PAIRS_UP_TO = 8
 #: Rows of edge-vertex pairs held at once when measuring a polygon that winds more than once.
 _PAIR_CHUNK = 1_000_000
 
@@ -229,6 +231,11 @@ def _edge_pairs(he: HalfEdges, n_points: int) -> tuple[np.ndarray, np.ndarray]:
     two = starts[sizes == 2]
     # Edges shared by more than two half-edges: every ordered pair of distinct members,
     # group by group, row-major (a, b) within each, in one pass instead of a loop over groups.
+    # Beyond _ALL_PAIRS_UP_TO members (a wrong answer listing one edge in hundreds of faces,
+    # issue 33 F9) each member meets its cyclic neighbours only: s**2 pairs would not fit.
+    many = sizes > _ALL_PAIRS_UP_TO
+    ring_start, ring_size = starts[many], sizes[many]
+    sizes = np.where(many, 0, sizes)
     big_start, big_size = starts[sizes > 2], sizes[sizes > 2]
     square = big_size * big_size
     base = np.repeat(np.cumsum(square) - square, square)
@@ -236,8 +243,12 @@ def _edge_pairs(he: HalfEdges, n_points: int) -> tuple[np.ndarray, np.ndarray]:
     a, b = np.divmod(np.arange(int(square.sum())) - base, size_of)
     off = a != b
     at = np.repeat(big_start, square)[off]
-    i = np.concatenate([order[two], order[two + 1], order[at + a[off]]])
-    j = np.concatenate([order[two + 1], order[two], order[at + b[off]]])
+    member = np.arange(int(ring_size.sum())) - np.repeat(np.cumsum(ring_size) - ring_size, ring_size)
+    first = np.repeat(ring_start, ring_size)
+    size_r = np.repeat(ring_size, ring_size)
+    ra, rb = first + member, first + (member + 1) % size_r
+    i = np.concatenate([order[two], order[two + 1], order[at + a[off]], order[ra], order[rb]])
+    j = np.concatenate([order[two + 1], order[two], order[at + b[off]], order[rb], order[ra]])
     keep = he.face[i] != he.face[j]
     return i[keep], j[keep]
 

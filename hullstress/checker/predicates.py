@@ -397,6 +397,41 @@ def _det3(adx, ady, adz, bdx, bdy, bdz, cdx, cdy, cdz):
     return det, O3D_ERRBOUND_A * ((norm_a * norm_b) * norm_c), noise
 
 
+def _scaled_filter(cols: list[np.ndarray], dim: int) -> tuple[np.ndarray, np.ndarray]:
+    """The float filter on each row's differences scaled by a power of two to below 1 (stage 1b).
+
+    ``d_i = fl(p_i - p_last)`` are the differences the plain filter uses (one
+    rounding each, or inf: such a row is left undecided).  Each row is scaled
+    by ``2**-e``, ``e`` the exponent of its largest ``|d_i|``: exact, except
+    that an entry falling below the normal range is rounded, by at most
+    ``2**-1075`` absolutely.  With every entry below 1 in magnitude, nothing
+    can overflow, and a perturbation of ``2**-1075`` in one entry moves the
+    determinant by at most that times a cofactor (at most 2), so the whole
+    rescaling and every underflowed product stay far below the absolute term
+    ``_TINY`` of the bound; the relative part is Shewchuk's, as in stage 1.
+    The sign of the scaled determinant is the sign of the original one
+    (``2**(-e dim) > 0``).
+    """
+    with np.errstate(all="ignore"):
+        last = cols[dim * dim: dim * (dim + 1)]
+        diff = [cols[i * dim + c] - last[c] for i in range(dim) for c in range(dim)]
+        top = np.abs(diff[0])
+        for d in diff[1:]:
+            top = np.maximum(top, np.abs(d))
+        finite = np.isfinite(top) & (top > 0)
+        shift = -np.frexp(np.where(finite, top, 1.0))[1]
+        scaled = [np.ldexp(d, shift) for d in diff]
+        if dim == 2:
+            (ax, ay), (bx, by) = scaled[:2], scaled[2:]
+            left, right = ax * by, ay * bx
+            det = left - right
+            decided = _decided(det, CCW_ERRBOUND_A * (np.abs(left) + np.abs(right)), _TINY)
+        else:
+            det, errbound, noise = _det3(*scaled)
+            decided = _decided(det, errbound, noise)
+    return det, decided & finite
+
+
 def _coincident(args: list[np.ndarray]) -> np.ndarray:
     """Rows where two of the points are equal: the determinant is exactly zero."""
     out = np.zeros(max(len(a) for a in args), dtype=bool)
@@ -427,6 +462,15 @@ def _settle(sign: np.ndarray, decided: np.ndarray, args: list[np.ndarray], dim: 
     if not rest.size:
         return sign
     cols = [col for arr in taken for col in _columns(arr[~zero], dim)]
+    # Rows whose filter overflowed or sank towards underflow (mixed magnitudes such as 1e300
+    # with 1e-300): the same filter on row-scaled differences settles most without integers.
+    value, ok = _scaled_filter(cols, dim)
+    if ok.any():
+        sign[rest[ok]] = np.sign(value[ok]).astype(np.int8)
+        rest = rest[~ok]
+        if not rest.size:
+            return sign
+        cols = [col[~ok] for col in cols]
     exact_eval, dd_eval, int_det = stages
     if rest.size <= FEW_FOR_INTEGERS:
         # A few rows: integers at once (the float stages' fixed cost of a hundred small
