@@ -3,6 +3,11 @@
 Filled by :func:`.certify.certify` (the general checks) or
 :func:`.closed_mesh.certify_closed_mesh` (the batched path for closed convex
 triangle meshes), never by anything else.
+
+Soundness of :func:`corners3`: collinearity is exact (:func:`.predicates.collinear3d`)
+and "v between its two neighbours" is read from signs of comparisons per axis,
+never from a product of differences, which underflows to -0.0 for spacings
+below about 1.5e-162 and overflows near the top of the range (issue 33, F4).
 """
 
 from __future__ import annotations

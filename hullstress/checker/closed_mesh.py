@@ -38,6 +38,13 @@ This path only ever concludes "certified", and then builds exactly the
 certificate the general path builds for that surface (same interior point,
 same ray, same corner rule); any failed or uncovered condition returns None
 and the general path runs, which also reports what failed.
+
+Soundness: :func:`.predicates.filter3_columns` / ``filter2_columns`` return an
+infinite bound for any row whose float determinant is not finite, and a bound
+with absolute underflow terms otherwise, so ``exact_signs*`` decide in floats
+only what Shewchuk's analysis covers; the rest go through the exact stages
+(issue 33, F1 and F2).  The mean is :func:`._geometry.vertex_mean`, finite at
+any magnitude.
 """
 
 from __future__ import annotations

@@ -18,6 +18,16 @@ Two strategies, both exact:
 
 The second is what makes the full check of a 10^5-point hull cost about as
 much as computing it.
+
+Soundness of the float shortcuts (docs/checker.md): a matrix entry ``s`` is
+decided only when it is finite (no intermediate overflowed) and beyond its
+facet's bound, which carries ``2**-1000`` absolute terms for underflowed
+products; :func:`_probe` decides with the same test, so every point it reports
+is exactly outside.  The inscribed-ball shortcut (:func:`_deep_points`) uses
+:func:`._geometry.inner_radius` (Shewchuk's bound, doubled) and, near the top
+of the range, a power-of-two scaling verified exact on the planes and center.
+No step holds all points x all facets, and a grossly wrong answer costs probes,
+not ``n m`` entries (issue 33).
 """
 
 from __future__ import annotations

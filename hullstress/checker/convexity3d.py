@@ -22,6 +22,11 @@ A surface is convex when
    1-3 alone cannot see (a branched double cover).
 
 Each violation also gets a float magnitude (a distance) for the severity.
+
+Soundness: every sign is an exact predicate; the polygon-face walk compares
+coordinates (``x > y``) instead of taking signs of differences, and the float
+distances it reports are magnitudes only, computed under ``errstate`` so that
+an overflow near 1.7e308 reads as 0, never as an error.
 """
 
 from __future__ import annotations

@@ -12,6 +12,10 @@ edge (the vertices' mean when it passes exactly and some turn is strictly
 left, else the exact centroid of a triangle of the polygon's vertices); and
 the polygon winds once around it (:func:`.wrap.wrap_number_2d`: a locally
 convex polygon that winds twice, like a {7/2} star, fails only this test).
+
+Soundness: every turn and crossing is an exact predicate; "far ends on the same
+side" is read from comparisons, not products of differences.  The pairwise
+crossing test looks only at edges whose x-extents overlap (a sweep, issue 33).
 """
 
 from __future__ import annotations

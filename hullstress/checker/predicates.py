@@ -2,20 +2,45 @@
 
 Every function here returns the *exact* sign of a polynomial in float64
 inputs, for every finite input (huge, tiny and subnormal included).  Each call
-runs four stages on the rows still undecided (when the filter leaves at most
-:data:`FEW_FOR_INTEGERS` rows, they go from stage 1 straight to stage 4, which
-is cheaper for a few rows than the fixed cost of stages 2 and 3):
+runs these stages on the rows still undecided (when stage 1b leaves at most
+:data:`FEW_FOR_INTEGERS` rows, they go straight to stage 4, which is cheaper
+for a few rows than the fixed cost of stages 2 and 3):
 
 1. **Floating-point filter** (Shewchuk, "Adaptive precision floating-point
    arithmetic and fast robust geometric predicates", 1997): the determinant in
    float64 and his proven error bound ``ccwerrboundA`` / ``o3derrboundA``
    (in 3D times the product of the rows' L1 norms, an upper bound of his
    permanent that costs fewer operations).
-   Shewchuk's bound assumes no underflow and no overflow.  Overflow turns some
-   intermediate into inf or NaN, which makes the comparison false (the row is
-   undecided).  Underflow can only lose an absolute ``2**-1075`` per product,
-   amplified at most by the size of the last factor; a ``2**-1000``-scale
-   absolute term covers it (see :func:`_decided`).
+   Shewchuk's bound assumes no underflow and no overflow; a row is decided
+   only where both are excluded or covered (issue 33):
+
+   *Overflow.*  Under ``+ - *`` an inf or NaN intermediate never becomes
+   finite again, so a finite determinant means that no intermediate of it
+   overflowed; every filter here requires ``det`` finite as well as
+   ``|det| > bound`` (:func:`_decided`, :func:`filter2_columns`,
+   :func:`filter3_columns`, :func:`_orient_mean`).  Comparing alone is not
+   enough: the bound is computed along another path (``(tiny x huge) x
+   huge``) and stays finite where ``det``'s products overflow, and
+   ``|inf| > finite`` once decided rows with the wrong sign (F1, F2).  A
+   bound that overflows is inf, and nothing beats it.
+
+   *Underflow.*  A product that underflows has an absolute error of at most
+   ``2**-1075`` besides its relative one (sums and differences of floats are
+   exact in the subnormal range).  In 2D such an error enters ``det``
+   directly; in 3D the xy-products' errors are multiplied by a z difference.
+   The bound itself loses at most ``2**-1075`` times the last factor when
+   ``|a| * |b|`` (2D: ``|left| + |right|``; 3D: ``norm_a * norm_b``) sinks below
+   the normal range.  The absolute term ``2**-1000`` (2D) and
+   ``2**-1000 (1 + norm_a + norm_b + norm_c)`` (3D, the rows' L1 norms)
+   covers all of these with a factor above ``2**60`` to spare.  The relative
+   slack ``1 + 2**-40`` covers the rounding of the bound's own evaluation.
+
+1b. **Row-scaled filter** (:func:`_scaled_filter`): rows stage 1 leaves open
+   are filtered again on their differences scaled by a power of two to below
+   1.  Nothing can overflow then, and an entry that rounds below the normal
+   range moves the determinant by less than the same absolute term.  Mixed
+   magnitudes (1e300 with 1e-300, which no exact global scaling can bring
+   into range) are settled here instead of in integer arithmetic.
 2. **Exact-evaluation check**: the same determinant with the error of every
    operation computed by error-free transformations (Knuth's TwoSum, Dekker's
    TwoProduct).  When every error is zero, the float result *is* the exact
@@ -45,7 +70,16 @@ from outside exactly when ``orient3d(a, b, c, p) < 0``.
 
 The ``*_mean`` variants take the last point as the mean of several points,
 exactly (no rounding of the mean): the determinant is affine in that row, so
-its sign is the sign of the sum of the determinants with each point.
+its sign is the sign of the sum of the determinants with each point.  Their
+filter sums the terms' bounds plus ``2 m eps`` times the sum of the terms'
+magnitudes (the rounding of an ``m``-term float sum), and decides only when
+every term is finite; the rest go to integers.
+
+Stages 2 and 3 decide only finite values inside the ranges their error-free
+transformations need (``_two_prod_exact``: no split overflow, products above
+``2**-969``; ``_in_dd_range``: differences in ``[2**-300, 2**300]``), and
+stage 4 is exact for every finite input.  docs/checker.md lists every float
+shortcut of the checker with the argument for its soundness.
 """
 
 from __future__ import annotations
