@@ -452,7 +452,11 @@ def _scaled_filter(cols: list[np.ndarray], dim: int) -> tuple[np.ndarray, np.nda
         top = np.abs(diff[0])
         for d in diff[1:]:
             top = np.maximum(top, np.abs(d))
-        finite = np.isfinite(top) & (top > 0)
+        # Only rows stage 1 may have failed for their magnitude (products overflowing, or
+        # the underflow term dominating): elsewhere scaling changes nothing.
+        finite = np.isfinite(top) & ((top > 2.0**300) | ((top < 2.0**-300) & (top > 0)))
+        if not finite.any():
+            return top, finite
         shift = -np.frexp(np.where(finite, top, 1.0))[1]
         scaled = [np.ldexp(d, shift) for d in diff]
         if dim == 2:
