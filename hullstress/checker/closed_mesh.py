@@ -66,6 +66,9 @@ __all__ = ["certify_closed_mesh", "certify_convex_polygon"]
 #: runs (brute force in one matrix product, or the cone strategy for large inputs).
 _BATCH_CONTAINMENT = 2_000
 _NEXT = np.array([1, 2, 0])
+#: Rows filtered at once: the (dim, dim, rows) differences of a 10^6-point sphere's ten million
+#: rows would hold 1.4 GB (with their absolute values) at once.
+_FILTER_CHUNK = 1 << 20
 #: From a half-edge's corner to the corner of the vertex off its edge (c -> c + 2 mod 3).
 _BACK = np.array([2, -1, -1])
 _EMPTY = np.zeros(0, dtype=np.int64)
@@ -114,7 +117,11 @@ def _signs_and_measure(coords: np.ndarray, signed: int) -> tuple[np.ndarray, Mea
     dim = coords.shape[0]
     filter_columns, exact_signs = (filter2_columns, exact_signs2) if dim == 2 else (filter3_columns, exact_signs3)
     with np.errstate(all="ignore"):  # overflow means an undecided row, settled exactly
-        det, bound = filter_columns(coords[:, :dim] - coords[:, dim:])
+        rows = coords.shape[2]
+        det, bound = np.empty(rows), np.empty(rows)
+        for start in range(0, rows, _FILTER_CHUNK):  # the differences and their magnitudes, a slab at a time
+            part = slice(start, start + _FILTER_CHUNK)
+            det[part], bound[part] = filter_columns(coords[:, :dim, part] - coords[:, dim:, part])
         measure = Measure(dim, [coords[:, j, signed:].T for j in range(dim + 1)], (det[signed:], bound[signed:]))
         if measure.sign <= 0:
             return None
