@@ -124,8 +124,10 @@ def _projection(points: np.ndarray, plane: np.ndarray, big: np.ndarray) -> tuple
 
 
 _PAIRS = np.array([(0, 1), (1, 2), (2, 0)])
-#: Half-edges on one edge up to which every pair of them is tested (:func:`_edge_pairs`).
+#: Half-edges on one edge up to which every pair of them is always tested, and the pairs of
+#: non-manifold edges tested in full below which every pair is (:func:`_edge_pairs`).
 _ALL_PAIRS_UP_TO = 8
+_PAIR_BUDGET = 4_000_000
 #: Rows of edge-vertex pairs held at once when measuring a polygon that winds more than once.
 _PAIR_CHUNK = 1_000_000
 
@@ -236,9 +238,12 @@ def _edge_pairs(he: HalfEdges, n_points: int) -> tuple[np.ndarray, np.ndarray]:
     two = starts[sizes == 2]
     # Edges shared by more than two half-edges: every ordered pair of distinct members,
     # group by group, row-major (a, b) within each, in one pass instead of a loop over groups.
-    # Beyond _ALL_PAIRS_UP_TO members (a wrong answer listing one edge in hundreds of faces,
-    # issue 33 F9) each member meets its cyclic neighbours only: s**2 pairs would not fit.
+    # When all those pairs would exceed _PAIR_BUDGET (a wrong answer listing one edge in
+    # hundreds of faces, issue 33 F9: 10 GB), the members of edges shared by more than
+    # _ALL_PAIRS_UP_TO half-edges meet their cyclic neighbours only.
     many = sizes > _ALL_PAIRS_UP_TO
+    if int((sizes[sizes > 2].astype(np.int64) ** 2).sum()) <= _PAIR_BUDGET:
+        many[:] = False
     ring_start, ring_size = starts[many], sizes[many]
     sizes = np.where(many, 0, sizes)
     big_start, big_size = starts[sizes > 2], sizes[sizes > 2]
