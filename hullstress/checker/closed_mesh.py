@@ -119,12 +119,18 @@ def _signs_and_measure(coords: np.ndarray, signed: int) -> tuple[np.ndarray, Mea
     with np.errstate(all="ignore"):  # overflow means an undecided row, settled exactly
         rows = coords.shape[2]
         det, bound = np.empty(rows), np.empty(rows)
-        for start in range(0, rows, _FILTER_CHUNK):  # the differences and their magnitudes, a slab at a time
-            part = slice(start, start + _FILTER_CHUNK)
-            det[part], bound[part] = filter_columns(coords[:, :dim, part] - coords[:, dim:, part])
+
+        def run_filter(first: int, last: int) -> None:  # the differences and their magnitudes, a slab at a time
+            for start in range(first, last, _FILTER_CHUNK):
+                part = slice(start, min(start + _FILTER_CHUNK, last))
+                det[part], bound[part] = filter_columns(coords[:, :dim, part] - coords[:, dim:, part])
+
+        # The volume rows first: a reversed surface (negative volume) is declined before the rest.
+        run_filter(signed, rows)
         measure = Measure(dim, [coords[:, j, signed:].T for j in range(dim + 1)], (det[signed:], bound[signed:]))
         if measure.sign <= 0:
             return None
+        run_filter(0, signed)
         return exact_signs(det[:signed], bound[:signed], [coords[:, j, :signed].T for j in range(dim + 1)]), measure
 
 
