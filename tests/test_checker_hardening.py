@@ -236,3 +236,19 @@ def test_f9_bounds_are_euler_s():
     octahedron_like = FaceSet.from_triangles(np.zeros((2 * 6 - 4, 3), dtype=np.int64))
     assert not oversized(octahedron_like, 6)
     assert oversized(FaceSet.from_triangles(np.zeros((2 * 6 - 3, 3), dtype=np.int64)), 6)
+
+
+def test_f9_edge_pairs_stay_linear_on_an_edge_listed_by_many_faces(monkeypatch):
+    from types import SimpleNamespace
+
+    import hullstress.checker.convexity3d as conv
+
+    k = 3000  # one edge in 3000 faces: 9 million ordered pairs before
+    src, dst = np.zeros(k, dtype=np.int64), np.ones(k, dtype=np.int64)
+    src[1::2], dst[1::2] = 1, 0
+    he = SimpleNamespace(src=src, dst=dst, face=np.arange(k), paired=False)
+    i, j = conv._edge_pairs(he, 2)
+    assert len(i) == 2 * k  # each half-edge with its two cyclic neighbours
+    assert np.all(src[i] + dst[i] == 1) and np.all(i != j)
+    monkeypatch.setattr(conv, "_PAIR_BUDGET", 10**8)
+    assert len(conv._edge_pairs(he, 2)[0]) == k * (k - 1)  # within the budget: every pair, as before
