@@ -295,9 +295,12 @@ def test_malformed_output_is_a_contract_violation_never_an_internal_error(garbag
 
 # --------------------------------------------------------------------------- the slow form (nightly)
 
+#: At least 300 examples of larger inputs; the nightly profile's 1000 when it is loaded.
+_SLOW_EXAMPLES = max(300, settings.default.max_examples)
+
 
 @pytest.mark.slow
-@settings(max_examples=400)
+@settings(max_examples=_SLOW_EXAMPLES)
 @given(cases_2d(max_points=14))
 def test_2d_answers_agree_with_the_oracle_at_length(case):
     pts, poly, regime = case
@@ -305,7 +308,7 @@ def test_2d_answers_agree_with_the_oracle_at_length(case):
 
 
 @pytest.mark.slow
-@settings(max_examples=400)
+@settings(max_examples=_SLOW_EXAMPLES)
 @given(cases_3d(max_points=12))
 def test_3d_answers_agree_with_the_oracle_at_length(case):
     pts, faces, regime = case
