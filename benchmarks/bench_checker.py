@@ -20,18 +20,35 @@ Part 2, ``--n`` points (default 100,000) in a 3D ball, best of ``--repeat``:
   installed (includes parsing the text input, the same for both);
 * optionally (``--brute``) plain float numpy, every point against every facet.
 
+Part 3, ``--adversarial``: the inputs of issue 33, each judged in a fresh
+process so that its peak memory (``ru_maxrss``) is its own, and scipy's
+``ConvexHull`` timed on the same points in another fresh process:
+
+* a 2D circle of ``--wrong-n`` points given clockwise (a wrong answer);
+* a 3D sphere of ``--wrong-n`` points with every face reversed (a wrong answer);
+* ``--mixed-n`` Gaussian points times 1e300 plus the point (1e-300, 0, 0), with
+  their correct hull (mixed magnitudes: no exact scaling brings them into range);
+* ``--sphere-n`` points on a sphere, every one extreme, with their correct hull.
+
+The figures go to ``docs/figures/bench_checker.md`` (``--figures`` elsewhere),
+which docs/checker.md includes.
+
 Every figure is the best of ``--repeat`` rounds, and every ratio is taken
 against ConvexHull measured in the same run, interleaved, so that the ratios
 survive a shared, loaded machine.  ``--clock cpu`` measures process CPU time
 instead of wall time (steadier when other processes compete for the cores).
 
-Run: ``python benchmarks/bench_checker.py [--sizes 24,100,1000] [--n 100000] [--repeat 5]``.
+Run: ``python benchmarks/bench_checker.py [--sizes 24,100,1000] [--n 100000] [--repeat 5]``,
+or ``python benchmarks/bench_checker.py --adversarial [--sphere-n 1000000]`` for part 3 alone.
 Prints Markdown tables.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
+import os
+import resource
 import subprocess
 import sys
 import tempfile
@@ -192,6 +209,112 @@ def large(n: int, repeat: int, seed: int, brute: bool, clock) -> list[str]:
     return lines
 
 
+# --------------------------------------------------------------------------- part 3: adversarial inputs
+
+#: Figures file the documentation includes (docs/checker.md).
+FIGURES = Path(__file__).resolve().parent.parent / "docs" / "figures" / "bench_checker.md"
+
+
+def _outward(points: np.ndarray, hull: ConvexHull) -> np.ndarray:
+    tri = hull.simplices.copy()
+    a, b, c = (points[tri[:, k]] for k in range(3))
+    inward = np.einsum("ij,ij->i", np.cross(b - a, c - a), hull.equations[:, :3]) < 0
+    tri[inward] = tri[inward][:, ::-1]
+    return tri
+
+
+def adversarial_input(kind: str, n: int, seed: int) -> tuple[np.ndarray, np.ndarray]:
+    """The points and the answer of one part-3 input."""
+    rng = np.random.default_rng(seed)
+    if kind == "circle-clockwise":
+        t = np.sort(rng.uniform(0.0, 2.0 * np.pi, n))
+        return np.c_[np.cos(t), np.sin(t)], np.arange(n)[::-1].copy()
+    if kind in ("sphere-reversed", "sphere"):
+        p = rng.standard_normal((n, 3))
+        p /= np.linalg.norm(p, axis=1)[:, None]
+        faces = _outward(p, ConvexHull(p))
+        return p, (faces[:, ::-1].copy() if kind == "sphere-reversed" else faces)
+    if kind == "mixed":
+        p = np.vstack([rng.standard_normal((n - 1, 3)) * 1e300, [[1e-300, 0.0, 0.0]]])
+        scaled = p * 2.0**-1000  # Qhull overflows at 1e300; the scaled copy has the same faces
+        return p, _outward(scaled, ConvexHull(scaled))
+    raise SystemExit(f"unknown adversarial input {kind!r}")
+
+
+def _measure_one(task: str, path: str) -> None:
+    """Child process: time ``check`` (or ``ConvexHull``) on a saved input; print seconds and peak MB as JSON."""
+    data = np.load(path)
+    points, faces = data["points"], data["faces"]
+    start = time.perf_counter()
+    if task == "check":
+        verdict = check(points, faces)
+        extra = {"ok": verdict.ok, "detail": verdict.detail[:120]}
+    else:
+        with np.errstate(all="ignore"):
+            try:
+                ConvexHull(points)
+                extra = {"ok": True}
+            except Exception as exc:  # Qhull's own overflow at 1e300: report it, it is only the yardstick
+                extra = {"ok": False, "detail": f"{type(exc).__name__}"}
+    seconds = time.perf_counter() - start
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0  # KiB on Linux
+    print(json.dumps({"seconds": seconds, "peak_mb": peak, **extra}))
+
+
+def _child(task: str, path: str) -> dict:
+    out = subprocess.run([sys.executable, __file__, "--measure", task, path], capture_output=True, text=True, check=False)
+    if out.returncode:
+        raise SystemExit(f"measuring {task} failed: {out.stderr.strip().splitlines()[-1] if out.stderr else out.returncode}")
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def adversarial(sizes: dict[str, int], repeat: int, seed: int) -> list[str]:
+    """Part 3: every input in fresh processes, best time of ``repeat`` rounds, the largest peak."""
+    targets = {
+        "circle-clockwise": "<= 2 s",
+        "sphere-reversed": "<= 5 s",
+        "mixed": "<= 1 s, <= 500 MB",
+        "sphere": "<= 1.5x ConvexHull, <= 2048 MB",
+    }
+    what = {
+        "circle-clockwise": "2D circle given clockwise (wrong)",
+        "sphere-reversed": "3D sphere, every face reversed (wrong)",
+        "mixed": "Gaussian x 1e300 plus (1e-300, 0, 0) (right)",
+        "sphere": "sphere, every point extreme (right)",
+    }
+    lines = [
+        "| input | n | check s | check peak MB | ConvexHull s | check / ConvexHull | verdict | target |",
+        "| --- | ---: | ---: | ---: | ---: | ---: | --- | --- |",
+    ]
+    with tempfile.TemporaryDirectory() as tmp:
+        for kind, n in sizes.items():
+            if not n:
+                continue
+            points, faces = adversarial_input(kind, n, seed)
+            path = os.path.join(tmp, f"{kind}.npz")
+            np.savez(path, points=points, faces=faces)
+            del points, faces
+            checks, hulls = [], []
+            for _ in range(repeat):  # interleaved, so the ratio survives a loaded machine
+                checks.append(_child("check", path))
+                hulls.append(_child("hull", path))
+            c = min(checks, key=lambda r: r["seconds"])
+            h = min(hulls, key=lambda r: r["seconds"])
+            peak = max(r["peak_mb"] for r in checks)
+            hull_note = f"{h['seconds']:.3f}" if h["ok"] else f"fails ({h.get('detail', '')})"
+            ratio = f"{c['seconds'] / h['seconds']:.2f}x" if h["ok"] else "-"
+            verdict = "valid" if c["ok"] else "invalid"
+            lines.append(f"| {what[kind]} | {n} | {c['seconds']:.3f} | {peak:.0f} | {hull_note} | {ratio} | {verdict} "
+                         f"| {targets[kind]} |")
+    return lines
+
+
+def write_figures(lines: list[str], header: str, path: Path) -> None:
+    """Write the part-3 table (a Markdown file the docs include); nobody types these figures."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(header + "\n\n" + "\n".join(lines) + "\n")
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sizes", default="24,100,1000", help="comma-separated small sizes (part 1)")
@@ -200,8 +323,30 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--clock", choices=("wall", "cpu"), default="wall")
     parser.add_argument("--brute", action="store_true", help="also time plain numpy all points x all facets")
+    parser.add_argument("--adversarial", action="store_true",
+                        help="run part 3 (issue 33's inputs) alone and write its figures")
+    parser.add_argument("--wrong-n", type=int, default=100_000, help="points of the wrong 2D and 3D answers")
+    parser.add_argument("--mixed-n", type=int, default=200_000, help="points of the mixed-magnitude input")
+    parser.add_argument("--sphere-n", type=int, default=1_000_000, help="points of the all-extreme sphere")
+    parser.add_argument("--figures", type=Path, default=FIGURES, help="where part 3 writes its table")
+    parser.add_argument("--measure", nargs=2, metavar=("TASK", "NPZ"), help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     clock = time.perf_counter if args.clock == "wall" else time.process_time
+    if args.measure:
+        _measure_one(*args.measure)
+        return 0
+    if args.adversarial:
+        sizes = {"circle-clockwise": args.wrong_n, "sphere-reversed": args.wrong_n, "mixed": args.mixed_n,
+                 "sphere": args.sphere_n}
+        lines = adversarial(sizes, args.repeat, args.seed)
+        load = ", ".join(f"{x:.2f}" for x in os.getloadavg())
+        header = (f"Issue 33's inputs, seed {args.seed}, best of {args.repeat} fresh processes each "
+                  f"(wall clock; load average {load} on {os.cpu_count()} CPUs when written; "
+                  f"ConvexHull timed on the same points in the same run)")
+        print(header + "\n\n" + "\n".join(lines))
+        write_figures(lines, header, args.figures)
+        print(f"\n(written to {args.figures})")
+        return 0
 
     sizes = [int(s) for s in args.sizes.split(",") if s.strip()]
     if sizes:

@@ -32,6 +32,7 @@ __all__ = [
     "normalize_output",
     "normalize_polygon",
     "normalize_faces",
+    "validate_face_set",
     "require_face_size",
     "canonical_output",
     "least_rotation",
@@ -238,6 +239,11 @@ def normalize_faces(output: Any, n_points: int, *, min_face_size: int = MIN_FACE
         raise ContractViolation("the algorithm returned None instead of faces")
     if isinstance(output, (str, bytes, dict)):
         raise ContractViolation(f"faces must be an (m, 3) integer array or a list of polygons, got {_describe(output)}")
+    if isinstance(output, FaceSet):
+        validate_face_set(output, n_points, min_face_size=min_face_size)
+        if output.indices.dtype == np.int64 and output.offsets.dtype == np.int64:
+            return output
+        return FaceSet(output.indices.astype(np.int64), output.offsets.astype(np.int64))
     if isinstance(output, np.ndarray):
         if output.ndim != 2 or (output.shape[1] != 3 and output.shape[0] > 0):
             raise ContractViolation(
@@ -254,7 +260,11 @@ def normalize_faces(output: Any, n_points: int, *, min_face_size: int = MIN_FACE
         ) from None
     checked = []
     for i, poly in enumerate(polygons):
-        if poly is None or isinstance(poly, (str, bytes)) or np.ndim(poly) != 1:
+        try:
+            ndim = None if poly is None or isinstance(poly, (str, bytes)) else np.ndim(poly)
+        except (ValueError, TypeError):  # ragged nesting such as [0, 2, 1, [3]] (issue 33, F6)
+            ndim = None
+        if ndim != 1:
             raise ContractViolation(f"face {i} must be a sequence of vertex indices, got {_describe(poly)}")
         arr = _as_index_array(poly, f"face {i}")
         if len(arr) < min_face_size:
@@ -262,6 +272,41 @@ def normalize_faces(output: Any, n_points: int, *, min_face_size: int = MIN_FACE
         _check_range(arr, n_points, f"face {i}")
         checked.append(arr)
     return FaceSet.from_polygons(checked)
+
+
+def validate_face_set(faces: FaceSet, n_points: int, *, min_face_size: int = MIN_FACE_SIZE) -> None:
+    """Raise ContractViolation unless ``faces`` is a well-formed FaceSet over ``n_points`` points.
+
+    A FaceSet is a plain record anyone can build, so its arrays are checked
+    like any other output: integer indices in range, offsets a 1-D integer
+    array starting at 0, non-decreasing, ending at ``len(indices)``, and
+    every face at least ``min_face_size`` vertices.  O(k) for k indices.
+
+    Examples
+    --------
+    >>> validate_face_set(FaceSet(np.array([0, 1, 2]), np.array([], dtype=np.int64)), 3)
+    Traceback (most recent call last):
+    ...
+    hullstress.errors.ContractViolation: FaceSet offsets must be a 1-D integer array starting at 0, got ndarray of dtype int64 and shape (0,)
+    """
+    idx, off = faces.indices, faces.offsets
+    if not isinstance(idx, np.ndarray) or idx.ndim != 1 or idx.dtype.kind not in "iu":
+        raise ContractViolation(f"FaceSet indices must be a 1-D integer array, got {_describe(idx)}")
+    if (not isinstance(off, np.ndarray) or off.ndim != 1 or off.dtype.kind not in "iu" or not len(off)
+            or off[0] != 0):
+        raise ContractViolation(f"FaceSet offsets must be a 1-D integer array starting at 0, got {_describe(off)}")
+    if int(off[-1]) != len(idx):
+        raise ContractViolation(f"FaceSet offsets end at {int(off[-1])}, but there are {len(idx)} indices")
+    sizes = np.diff(off.astype(np.int64))
+    if sizes.size and sizes.min() < 0:
+        i = int(np.argmax(sizes < 0))
+        raise ContractViolation(f"FaceSet offsets decrease at face {i} ({int(off[i])} then {int(off[i + 1])})")
+    if idx.dtype.kind == "u" and idx.size and idx.max() > _INT64_MAX:
+        raise ContractViolation(f"FaceSet indices hold an index too large for int64: {idx.max()}")
+    _check_range(idx, n_points, "faces")
+    small = np.flatnonzero(sizes < min_face_size)
+    if len(small):
+        raise ContractViolation(_too_small(int(small[0]), int(sizes[small[0]])))
 
 
 def normalize_output(output: Any, n_points: int, dim: int, *, min_face_size: int = MIN_FACE_SIZE) -> np.ndarray | FaceSet:

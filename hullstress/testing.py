@@ -44,10 +44,10 @@ def _as_points(points: Any) -> np.ndarray:
     return arr
 
 
-def _normalize(points: np.ndarray, faces: Any, label: str) -> np.ndarray | FaceSet:
+def _normalize(points: np.ndarray, faces: Any, label: str, *, min_face_size: int = 3) -> np.ndarray | FaceSet:
     __tracebackhide__ = True
     try:
-        return normalize_output(faces, len(points), points.shape[1])
+        return normalize_output(faces, len(points), points.shape[1], min_face_size=min_face_size)
     except ContractViolation as exc:
         raise AssertionError(f"{label} breaks the output contract: {exc}") from None
 
@@ -168,8 +168,14 @@ def assert_valid_hull(
     from .checker import check  # imported here so that importing this module stays cheap
 
     pts = _as_points(points)
-    normalized = _normalize(pts, faces, "faces")
-    verdict = check(pts, normalized, qhull=qhull, max_offending=max_offending)
+    # The same contract as ``check``: faces of one or two vertices are the right answer for a
+    # one-point or collinear input (README "Lower-dimensional input"), so the face size is
+    # left to ``check``, which knows the rank (issue 33, F5).
+    normalized = _normalize(pts, faces, "faces", min_face_size=1)
+    try:
+        verdict = check(pts, normalized, qhull=qhull, max_offending=max_offending)
+    except ContractViolation as exc:
+        raise AssertionError(f"faces breaks the output contract: {exc}") from None
     if verdict.ok:
         return verdict
     dim = pts.shape[1]

@@ -344,7 +344,7 @@ def test_faceset_answers_are_validated():
     ok = FaceSet(np.array([0, 1, 2, 3]), np.array([0, 4]))  # index 0 and the last index are in range
     assert judge_lower_dimensional(pts, ok).ok
     for bad in ([0, 1, 6], [-1, 1, 2]):
-        with pytest.raises(ContractViolation, match="faces hold an index out of range for 6 points"):
+        with pytest.raises(ContractViolation, match=r"faces holds index (6|-1), out of range for 6 points"):
             judge_lower_dimensional(pts, FaceSet(np.array(bad), np.array([0, 3])))
     with pytest.raises(ContractViolation, match="a FaceSet describes a 3D surface, got 2D points"):
         judge_lower_dimensional(pts[:, :2][[0, 4, 1]], FaceSet(np.array([0, 1, 2]), np.array([0, 3])))

@@ -3,6 +3,11 @@
 Filled by :func:`.certify.certify` (the general checks) or
 :func:`.closed_mesh.certify_closed_mesh` (the batched path for closed convex
 triangle meshes), never by anything else.
+
+Soundness of :func:`corners3`: collinearity is exact (:func:`.predicates.collinear3d`)
+and "v between its two neighbours" is read from signs of comparisons per axis,
+never from a product of differences, which underflows to -0.0 for spacings
+below about 1.5e-162 and overflows near the top of the range (issue 33, F4).
 """
 
 from __future__ import annotations
@@ -106,7 +111,12 @@ def corners3(points: np.ndarray, vertices: np.ndarray, sharp: np.ndarray) -> np.
         v = ends[0::2, 0]
         x, y = ends[0::2, 1], ends[1::2, 1]
         px, pv, py = points[x], points[v], points[y]
-        between = collinear3d(px, pv, py) & np.any((px - pv) * (py - pv) < 0, axis=1)
+        # Opposite sides of v on some axis.  Signs of comparisons, never a product of
+        # differences: that product underflows to -0.0 below spacings of about 1e-162
+        # (issue 33, F4) and overflows near the top of the float range.
+        side_x = (px > pv).astype(np.int8) - (px < pv).astype(np.int8)
+        side_y = (py > pv).astype(np.int8) - (py < pv).astype(np.int8)
+        between = collinear3d(px, pv, py) & np.any(side_x * side_y < 0, axis=1)
         corner_two = v[~between]
         is_corner |= np.isin(vertices, corner_two)
     is_corner |= count[vertices] == 1  # impossible on a convex surface; kept as a corner, not dropped

@@ -18,12 +18,16 @@ from ._geometry import triangle_array
 from .certificate import Certificate, corners3
 from .closed_mesh import certify_closed_mesh, certify_convex_polygon
 from .containment import check_containment2d, check_containment3d
-from .convexity3d import check_convexity3d
+from .convexity3d import check_convexity3d, face_planes
 from .measure import surface_measure
 from .polygon2d import check_polygon2d
 from .topology import check_topology, half_edges
 
 __all__ = ["Certificate", "certify"]
+
+#: Corners (face-vertex slots) up to which an oversized answer still gets the general checks and
+#: their detailed reasons; beyond, :func:`oversized` answers are judged in linear time.
+_FULL_CHECKS_UP_TO = 30_000
 
 
 def certify(points: np.ndarray, faces: np.ndarray | FaceSet, *, seed: int = 0, batched: bool = True) -> Certificate:
@@ -58,11 +62,64 @@ def certify(points: np.ndarray, faces: np.ndarray | FaceSet, *, seed: int = 0, b
             if quick is not None:
                 return quick
         return _certify2(points, poly, seed)
+    if len(faces.indices) > _FULL_CHECKS_UP_TO and oversized(faces, len(points)):
+        return _certify3_oversized(points, faces)
     if batched and triangle_array(faces) is not None:
         quick = certify_closed_mesh(points, faces, seed=seed)
         if quick is not None:
             return quick
     return _certify3(points, faces, seed)
+
+
+def oversized(faces: FaceSet, n_points: int) -> bool:
+    """Whether a 3D answer has more faces or corners than any convex hull of ``n_points`` points.
+
+    The boundary of a convex polytope is a sphere; with ``V <= n`` vertices
+    (one index per coordinate), Euler's formula gives at most ``2V - 4``
+    faces, and, faces having at least three edges, ``2E = sum of face sizes
+    <= 6V - 12``.  An answer beyond either bound is no valid hull whatever its
+    geometry (a gift-wrap that loops can emit 78,605 triangles over 1024
+    points, issue 33 F9).
+    """
+    return faces.n_faces > max(2 * n_points - 4, 4) or len(faces.indices) > max(6 * n_points - 12, 12)
+
+
+def _certify3_oversized(points: np.ndarray, faces: FaceSet) -> Certificate:
+    """The certificate of an answer :func:`oversized` rules out, in time linear in its size.
+
+    Manifoldness fails (no sphere over at most n vertices has that many
+    faces), and convexity with it (a closed surface that is convex around an
+    interior point and wraps it once is such a sphere).  Containment is still
+    decided exactly, on the answer's distinct face planes, streamed in chunks.
+    """
+    n = len(points)
+    plane = face_planes(points, faces)
+    distinct = np.unique(plane[plane[:, 0] >= 0], axis=0)
+    cont = check_containment3d(points, faces, distinct)
+    why = (f"{faces.n_faces} faces with {len(faces.indices)} corners: more than any convex hull of {n} points has "
+           f"(at most {2 * n - 4} faces, {6 * n - 12} corners); not judged further")
+    empty = np.zeros(0, np.int64)
+    mags = {"outside": cont.magnitude} if cont.outside.size else {}
+    return Certificate(
+        dim=3,
+        containment=cont.ok,
+        convexity=False,
+        manifoldness=False,
+        n_faces=faces.n_faces,
+        hull_vertices=np.unique(faces.indices),
+        extreme=None,
+        boundary_nonextreme=None,
+        outside=cont.outside,
+        n_nonconvex_edges=0,
+        n_degenerate_faces=int(np.count_nonzero(plane[:, 0] < 0)),
+        offending={"containment": cont.outside, "degenerate_faces": empty, "reflex_faces": empty,
+                   "flipped_faces": empty, "manifold_faces": empty, "manifold_vertices": empty},
+        magnitudes=mags,
+        measure=surface_measure(points, faces),  # linear in the answer's size; the Qhull comparison reads it
+        reasons={"containment": [f"{cont.outside.size} points outside"] if cont.outside.size else [],
+                 "convexity": ["too many faces for a closed convex surface"], "manifoldness": [why]},
+        wraps=None,
+    )
 
 
 def _certify3(points: np.ndarray, faces: FaceSet, seed: int) -> Certificate:

@@ -38,6 +38,13 @@ This path only ever concludes "certified", and then builds exactly the
 certificate the general path builds for that surface (same interior point,
 same ray, same corner rule); any failed or uncovered condition returns None
 and the general path runs, which also reports what failed.
+
+Soundness: :func:`.predicates.filter3_columns` / ``filter2_columns`` return an
+infinite bound for any row whose float determinant is not finite, and a bound
+with absolute underflow terms otherwise, so ``exact_signs*`` decide in floats
+only what Shewchuk's analysis covers; the rest go through the exact stages
+(issue 33, F1 and F2).  The mean is :func:`._geometry.vertex_mean`, finite at
+any magnitude.
 """
 
 from __future__ import annotations
@@ -59,6 +66,9 @@ __all__ = ["certify_closed_mesh", "certify_convex_polygon"]
 #: runs (brute force in one matrix product, or the cone strategy for large inputs).
 _BATCH_CONTAINMENT = 2_000
 _NEXT = np.array([1, 2, 0])
+#: Rows filtered at once: the (dim, dim, rows) differences of a 10^6-point sphere's ten million
+#: rows would hold 1.4 GB (with their absolute values) at once.
+_FILTER_CHUNK = 1 << 20
 #: From a half-edge's corner to the corner of the vertex off its edge (c -> c + 2 mod 3).
 _BACK = np.array([2, -1, -1])
 _EMPTY = np.zeros(0, dtype=np.int64)
@@ -107,10 +117,20 @@ def _signs_and_measure(coords: np.ndarray, signed: int) -> tuple[np.ndarray, Mea
     dim = coords.shape[0]
     filter_columns, exact_signs = (filter2_columns, exact_signs2) if dim == 2 else (filter3_columns, exact_signs3)
     with np.errstate(all="ignore"):  # overflow means an undecided row, settled exactly
-        det, bound = filter_columns(coords[:, :dim] - coords[:, dim:])
+        rows = coords.shape[2]
+        det, bound = np.empty(rows), np.empty(rows)
+
+        def run_filter(first: int, last: int) -> None:  # the differences and their magnitudes, a slab at a time
+            for start in range(first, last, _FILTER_CHUNK):
+                part = slice(start, min(start + _FILTER_CHUNK, last))
+                det[part], bound[part] = filter_columns(coords[:, :dim, part] - coords[:, dim:, part])
+
+        # The volume rows first: a reversed surface (negative volume) is declined before the rest.
+        run_filter(signed, rows)
         measure = Measure(dim, [coords[:, j, signed:].T for j in range(dim + 1)], (det[signed:], bound[signed:]))
         if measure.sign <= 0:
             return None
+        run_filter(0, signed)
         return exact_signs(det[:signed], bound[:signed], [coords[:, j, :signed].T for j in range(dim + 1)]), measure
 
 

@@ -18,6 +18,16 @@ Two strategies, both exact:
 
 The second is what makes the full check of a 10^5-point hull cost about as
 much as computing it.
+
+Soundness of the float shortcuts (docs/checker.md): a matrix entry ``s`` is
+decided only when it is finite (no intermediate overflowed) and beyond its
+facet's bound, which carries ``2**-1000`` absolute terms for underflowed
+products; :func:`_probe` decides with the same test, so every point it reports
+is exactly outside.  The inscribed-ball shortcut (:func:`_deep_points`) uses
+:func:`._geometry.inner_radius` (Shewchuk's bound, doubled) and, near the top
+of the range, a power-of-two scaling verified exact on the planes and center.
+No step holds all points x all facets, and a grossly wrong answer costs probes,
+not ``n m`` entries (issue 33).
 """
 
 from __future__ import annotations
@@ -40,6 +50,10 @@ _CONE_CHUNK = 500_000  # (point, cone edge) rows held at once: a big polygon fac
 _SMALL = 50_000  # up to this many point-facet entries, brute force (it beats the cone machinery there)
 _ROUNDS_FROM = 4_096  # more undecided entries than this in a chunk are settled in rounds (_settle_undecided)
 _WALK_STEPS = 64
+#: Beyond this many (point, facet) entries, brute force probes first (:func:`_probe`).
+_PROBE_FROM = 20_000_000
+#: Probe facets per point, and probe points per facet.
+_PROBES = 8
 
 
 @dataclass
@@ -173,9 +187,14 @@ def _brute(
     n, offset, bound = _facet_bounds(planes, pmax)
     norm = np.sqrt(np.einsum("ij,ij->i", n, n))  # einsum and sqrt of a non-negative raise no warning
     m = len(n)
-    chunk = max(1, _CHUNK // max(m, 1))
     out = []
     worst = 0.0
+    if len(candidates) * m > _PROBE_FROM:
+        # A wrong answer of many facets: most points outside show it against a few probes.
+        found, worst = _probe(points, candidates, n, offset, bound, norm)
+        out.append(candidates[found])
+        candidates = candidates[~found]
+    chunk = max(1, _CHUNK // max(m, 1))
     for start in range(0, len(candidates), chunk):
         idx = candidates[start : start + chunk]
         with np.errstate(all="ignore"):
@@ -202,6 +221,54 @@ def _brute(
             worst = max(worst, float(np.nan_to_num(dist, nan=0.0, posinf=0.0, neginf=0.0).max()))
         out.append(idx[hit])
     return np.concatenate(out), max(worst, 0.0)
+
+
+def _probe(points: np.ndarray, candidates: np.ndarray, n: np.ndarray, offset: np.ndarray, bound: np.ndarray,
+           norm: np.ndarray) -> tuple[np.ndarray, float]:
+    """Which candidates are surely outside some facet, from a linear number of probe entries.
+
+    Each point meets :data:`_PROBES` facets spread over the surface, and each
+    facet the :data:`_PROBES` points farthest along its normal direction
+    that a k-d tree on the points' directions proposes.  An entry is decided
+    exactly as in :func:`_brute` (a finite float value beyond the facet's
+    rigorous bound), so every point returned is exactly outside; the others
+    go through the full scan.  This turns the judgement of a grossly wrong
+    answer (a reversed 10^5-point sphere: every point outside nearly every
+    facet) from n x m entries into O((n + m) log n).
+
+    Returns the mask of candidates found outside, and the largest distance
+    outside among the probed entries: for those points the reported magnitude
+    is a lower bound on the largest over every facet (docs/checker.md).
+    """
+    pts = points[candidates]
+    m = len(n)
+    r = min(_PROBES, m)
+    found = np.zeros(len(candidates), dtype=bool)
+    worst = 0.0
+    spread = np.linspace(0, m - 1, r).astype(np.int64)  # the same facets for every point, spread over the answer
+    rows = max(1, _CHUNK // r)
+    with np.errstate(all="ignore"):
+        for start in range(0, len(pts), rows):
+            part = slice(start, start + rows)
+            s = pts[part] @ n[spread].T - offset[spread]
+            sure = np.isfinite(s) & (s > bound[spread])
+            found[part] |= sure.any(axis=1)
+            if sure.any():
+                worst = max(worst, float(np.max(np.where(sure, s / norm[spread], 0.0))))
+        # Per facet, the points farthest along its normal, by direction from the points' centroid.
+        center = pts.mean(axis=0)
+        if np.isfinite(center).all():
+            tree = cKDTree(_unit_rows(pts - center))
+            _, near = tree.query(_unit_rows(n), k=r)
+            near = np.minimum(near.reshape(m, r), len(pts) - 1)
+            for j in range(r):
+                p = near[:, j]
+                s = np.einsum("ij,ij->i", pts[p], n) - offset
+                sure = np.isfinite(s) & (s > bound)
+                found[p[sure]] = True
+                if sure.any():
+                    worst = max(worst, float(np.max(s[sure] / norm[sure])))
+    return found, worst if np.isfinite(worst) else 0.0
 
 
 def _exactly_outside(gi: np.ndarray, gf: np.ndarray, pts: np.ndarray, planes: list[np.ndarray],
@@ -302,11 +369,33 @@ def _deep_points(points: np.ndarray, planes: list[np.ndarray], center: np.ndarra
     This needs no convexity: every plane is at least the ball's radius away
     from ``center``, which is verified strictly below each of them.
     """
+    scale = _ball_scale(planes, center)
+    if scale != 1.0:
+        # Near the top of the range the radius' float products overflow (and it would be 0):
+        # measure in units scaled by a power of two that is exact on the planes and the center.
+        # A point's own scaled coordinates may round (below the normal range), by at most
+        # 2**-1075 each: covered by the absolute slack below.
+        planes = [x * scale for x in planes]
+        center = center * scale
+        points = points * scale
     r = inner_radius(planes, center)
     with np.errstate(all="ignore"):
         rel = points - center
         dist = np.sqrt(np.einsum("ij,ij->i", rel, rel)) * (1.0 + 1e-12) + 2.0**-500
     return rel, dist < r
+
+
+def _ball_scale(planes: list[np.ndarray], center: np.ndarray) -> float:
+    """A power of two bringing the planes and ``center`` below 1, when that scaling is exact on them; else 1."""
+    top = max([float(np.abs(center).max())] + [float(np.abs(x).max()) for x in planes if x.size])
+    if not 0.0 < top <= 2.0**-200 and not top >= 2.0**200:
+        return 1.0
+    scale = 2.0 ** -int(np.frexp(top)[1])
+    if scale == 0.0 or not np.isfinite(scale):
+        return 1.0
+    with np.errstate(all="ignore"):
+        exact = all(np.array_equal((x * scale) / scale, x) for x in planes + [center])
+    return scale if exact else 1.0
 
 
 # --------------------------------------------------------------------------- 3D

@@ -22,6 +22,11 @@ A surface is convex when
    1-3 alone cannot see (a branched double cover).
 
 Each violation also gets a float magnitude (a distance) for the severity.
+
+Soundness: every sign is an exact predicate; the polygon-face walk compares
+coordinates (``x > y``) instead of taking signs of differences, and the float
+distances it reports are magnitudes only, computed under ``errstate`` so that
+an overflow near 1.7e308 reads as 0, never as an error.
 """
 
 from __future__ import annotations
@@ -119,6 +124,10 @@ def _projection(points: np.ndarray, plane: np.ndarray, big: np.ndarray) -> tuple
 
 
 _PAIRS = np.array([(0, 1), (1, 2), (2, 0)])
+#: Half-edges on one edge up to which every pair of them is always tested, and the pairs of
+#: non-manifold edges tested in full below which every pair is (:func:`_edge_pairs`).
+_ALL_PAIRS_UP_TO = 8
+_PAIR_BUDGET = 4_000_000
 #: Rows of edge-vertex pairs held at once when measuring a polygon that winds more than once.
 _PAIR_CHUNK = 1_000_000
 
@@ -130,19 +139,24 @@ def _outside_magnitude(p2: np.ndarray, sign: int) -> float:
     polygons already found not convex.
     """
     k = len(p2)
-    u = np.roll(p2, -1, axis=0) - p2
-    with np.errstate(all="ignore"):
+    with np.errstate(all="ignore"):  # differences overflow near the top of the range: inf, then 0 below
+        u = np.roll(p2, -1, axis=0) - p2
         length = np.sqrt(np.einsum("ij,ij->i", u, u))
     worst = 0.0
     rows = max(1, _PAIR_CHUNK // k)
     for start in range(0, k, rows):
         e = slice(start, min(k, start + rows))
-        w = p2[None, :, :] - p2[e][:, None, :]
         with np.errstate(all="ignore"):
+            w = p2[None, :, :] - p2[e][:, None, :]
             cross = u[e][:, 0, None] * w[:, :, 1] - u[e][:, 1, None] * w[:, :, 0]
             dist = np.nan_to_num(-sign * cross / length[e][:, None], nan=0.0, posinf=0.0, neginf=0.0)
         worst = max(worst, float(dist.max()))
     return worst
+
+
+def _cmp(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """``sign(x - y)`` exactly, as int8, without computing the difference."""
+    return (x > y).astype(np.int8) - (x < y).astype(np.int8)
 
 
 def _polygon_defects(points: np.ndarray, faces: FaceSet, plane: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -186,11 +200,11 @@ def _polygon_defects(points: np.ndarray, faces: FaceSet, plane: np.ndarray) -> t
     turn = orient2d(prev, p2, nxt) * ref_sign[local]
     reflex = turn < 0
     # Straight on is allowed (a vertex on an edge), turning back is not.
-    with np.errstate(over="ignore"):
-        back = (turn == 0) & np.any(np.sign(p2 - prev) * np.sign(nxt - p2) < 0, axis=1)
+    # Signs by comparison: exact, and no difference to overflow near the top of the range.
+    back = (turn == 0) & np.any(_cmp(p2, prev) * _cmp(nxt, p2) < 0, axis=1)
     wrong = reflex | back
     # The edge directions turn once around: their x-signs change exactly twice (zeros skipped).
-    sx = np.sign(nxt[:, 0] - p2[:, 0]).astype(np.int8)
+    sx = _cmp(nxt[:, 0], p2[:, 0])
     keep = np.flatnonzero(sx != 0)
     f_keep, s_keep = local[keep], sx[keep]
     group_start = np.r_[True, f_keep[1:] != f_keep[:-1]]
@@ -224,6 +238,14 @@ def _edge_pairs(he: HalfEdges, n_points: int) -> tuple[np.ndarray, np.ndarray]:
     two = starts[sizes == 2]
     # Edges shared by more than two half-edges: every ordered pair of distinct members,
     # group by group, row-major (a, b) within each, in one pass instead of a loop over groups.
+    # When all those pairs would exceed _PAIR_BUDGET (a wrong answer listing one edge in
+    # hundreds of faces, issue 33 F9: 10 GB), the members of edges shared by more than
+    # _ALL_PAIRS_UP_TO half-edges meet their cyclic neighbours only.
+    many = sizes > _ALL_PAIRS_UP_TO
+    if int((sizes[sizes > 2].astype(np.int64) ** 2).sum()) <= _PAIR_BUDGET:
+        many[:] = False
+    ring_start, ring_size = starts[many], sizes[many]
+    sizes = np.where(many, 0, sizes)
     big_start, big_size = starts[sizes > 2], sizes[sizes > 2]
     square = big_size * big_size
     base = np.repeat(np.cumsum(square) - square, square)
@@ -231,8 +253,12 @@ def _edge_pairs(he: HalfEdges, n_points: int) -> tuple[np.ndarray, np.ndarray]:
     a, b = np.divmod(np.arange(int(square.sum())) - base, size_of)
     off = a != b
     at = np.repeat(big_start, square)[off]
-    i = np.concatenate([order[two], order[two + 1], order[at + a[off]]])
-    j = np.concatenate([order[two + 1], order[two], order[at + b[off]]])
+    member = np.arange(int(ring_size.sum())) - np.repeat(np.cumsum(ring_size) - ring_size, ring_size)
+    first = np.repeat(ring_start, ring_size)
+    size_r = np.repeat(ring_size, ring_size)
+    ra, rb = first + member, first + (member + 1) % size_r
+    i = np.concatenate([order[two], order[two + 1], order[at + a[off]], order[ra], order[rb]])
+    j = np.concatenate([order[two + 1], order[two], order[at + b[off]], order[rb], order[ra]])
     keep = he.face[i] != he.face[j]
     return i[keep], j[keep]
 

@@ -4,6 +4,10 @@
 orientation test: used as the 2D reference when Qhull's own hull fails the
 exact checks.  The coordinate helpers compare vertex sets by coordinates,
 because duplicated input points make index sets ambiguous.
+
+Soundness of :func:`_orient_scalar`'s filter: Shewchuk's bound plus 1e-300 for
+underflowed products; an infinite ``det`` has an infinite bound (``|det| <=
+|left| + |right|``) and NaN compares false, so only finite values are decided.
 """
 
 from __future__ import annotations

@@ -356,6 +356,42 @@ def _boundary_cycle(src: np.ndarray, dst: np.ndarray) -> tuple[np.ndarray | None
     return np.array(walk, dtype=np.int64), ""
 
 
+#: Most (vertex, boundary edge) pairs :func:`_t_junction` examines: it only words a reason.
+_JUNCTION_PAIRS = 1_000_000
+
+
+def _t_junction(src: np.ndarray, dst: np.ndarray, plane: np.ndarray, lex: np.ndarray) -> tuple[int, int, int] | None:
+    """A face vertex strictly inside an uncancelled edge of the side's boundary, if any (exact).
+
+    Faces that cover the polygon once but meet at a T-junction leave the split
+    edge uncancelled (README "Lower-dimensional input": the boundary rule); the
+    reason then names the junction instead of a generic overlap.  Collinearity
+    is an exact orientation in the plane's coordinates; "strictly inside" is
+    the lexicographic rank (the order along any line).
+    """
+    lo, hi = np.minimum(src, dst), np.maximum(src, dst)
+    sign = np.where(src < dst, 1, -1)
+    keys, inverse = np.unique(np.stack([lo, hi], axis=1), axis=0, return_inverse=True)
+    net = np.bincount(inverse.ravel(), weights=sign, minlength=len(keys)) != 0
+    edges = keys[net]
+    verts = np.unique(src)
+    if not len(edges) or len(edges) * len(verts) > _JUNCTION_PAIRS:
+        return None
+    e = np.repeat(np.arange(len(edges)), len(verts))
+    v = np.tile(verts, len(edges))
+    a, b = edges[e, 0], edges[e, 1]
+    first, last = np.minimum(lex[a], lex[b]), np.maximum(lex[a], lex[b])
+    inside = (lex[v] > first) & (lex[v] < last)
+    rows = np.flatnonzero(inside)
+    if not rows.size:
+        return None
+    on = orient2d(plane[a[rows]], plane[b[rows]], plane[v[rows]]) == 0
+    if not on.any():
+        return None
+    r = rows[np.argmax(on)]
+    return int(v[r]), int(a[r]), int(b[r])
+
+
 def _judge_flat(faces: FaceSet, hull: LowerHull, rep: np.ndarray, plane: np.ndarray, lex: np.ndarray, found: _Findings) -> None:
     """Judge faces of a coplanar 3D input: each non-empty side must tile the hull polygon once."""
     used = np.unique(rep[faces.indices])
@@ -380,6 +416,10 @@ def _judge_flat(faces: FaceSet, hull: LowerHull, rep: np.ndarray, plane: np.ndar
         src, dst = (idx[sel], nxt[sel]) if side == 1 else (nxt[sel], idx[sel])
         walk, why = _boundary_cycle(src, dst)
         if walk is None:
+            junction = _t_junction(src, dst, plane, lex)
+            if junction is not None:
+                why = (f"point {junction[0]} lies inside the edge {junction[1]}-{junction[2]} of another face "
+                       "(a T-junction: faces must meet edge to edge)")
             found.manifoldness.append(f"the {name} faces do not tile the polygon: {why}")
             found.add("manifold_faces", np.flatnonzero(orient == side))
             continue
@@ -480,14 +520,9 @@ def judge_lower_dimensional(
     pts = np.asarray(points, dtype=np.float64)
     n, dim = pts.shape
     hull = lower_dimensional_hull(pts, simplex)
-    if isinstance(faces, FaceSet):
-        if dim != 3:
-            raise ContractViolation("a FaceSet describes a 3D surface, got 2D points")
-        if faces.indices.size and (faces.indices.min() < 0 or faces.indices.max() >= n):
-            raise ContractViolation(f"faces hold an index out of range for {n} points")
-        answer: np.ndarray | FaceSet = faces
-    else:
-        answer = normalize_output(faces, n, dim, min_face_size=1)
+    if isinstance(faces, FaceSet) and dim != 3:
+        raise ContractViolation("a FaceSet describes a 3D surface, got 2D points")
+    answer: np.ndarray | FaceSet = normalize_output(faces, n, dim, min_face_size=1)  # FaceSets too (F6)
     if isinstance(answer, FaceSet) and hull.rank >= 2:
         require_face_size(answer)
     rep = _representatives(pts)

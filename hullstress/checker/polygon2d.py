@@ -12,6 +12,10 @@ edge (the vertices' mean when it passes exactly and some turn is strictly
 left, else the exact centroid of a triangle of the polygon's vertices); and
 the polygon winds once around it (:func:`.wrap.wrap_number_2d`: a locally
 convex polygon that winds twice, like a {7/2} star, fails only this test).
+
+Soundness: every turn and crossing is an exact predicate; "far ends on the same
+side" is read from comparisons, not products of differences.  The pairwise
+crossing test looks only at edges whose x-extents overlap (a sweep, issue 33).
 """
 
 from __future__ import annotations
@@ -74,7 +78,9 @@ def _segments_meet(p1, p2, q1, q2) -> np.ndarray:
     o1, o2 = orient2d(p1, p2, q1), orient2d(p1, p2, q2)
     o3, o4 = orient2d(q1, q2, p1), orient2d(q1, q2, p2)
     crossing = (o1.astype(np.int16) * o2 <= 0) & (o3.astype(np.int16) * o4 <= 0)
-    collinear = (o1 == 0) & (o2 == 0)
+    # All four zero: a zero-length segment is collinear with the other only when it lies
+    # on that one's line (testing o1, o2 alone made a point inside the other's box "meet" it).
+    collinear = (o1 == 0) & (o2 == 0) & (o3 == 0) & (o4 == 0)
     # Collinear segments meet iff their bounding boxes overlap (exact comparisons).
     overlap = np.all(
         (np.minimum(p1, p2) <= np.maximum(q1, q2)) & (np.minimum(q1, q2) <= np.maximum(p1, p2)), axis=1
@@ -110,20 +116,17 @@ def self_intersections(points: np.ndarray, poly: np.ndarray) -> np.ndarray:
     # Consecutive edges fold back when collinear and the far ends lie on the same side.
     c = points[np.roll(poly, -2)]
     col = orient2d(a, b, c) == 0
-    # Same side of b on some axis.  A float difference never has the wrong sign,
-    # but the product of two could underflow to 0 or overflow: compare signs.
-    with np.errstate(over="ignore"):  # an overflow to +-inf keeps the sign
-        back = col & np.any(np.sign(a - b) * np.sign(c - b) > 0, axis=1)
+    # Same side of b on some axis, by comparisons (exact; a product of differences could
+    # underflow to 0 or overflow).
+    side_a = (a > b).astype(np.int8) - (a < b).astype(np.int8)
+    side_c = (c > b).astype(np.int8) - (c < b).astype(np.int8)
+    back = col & np.any(side_a * side_c > 0, axis=1)
     bad |= back
     bad[np.flatnonzero(back) + 1 - k] = True
     lo, hi = np.minimum(a, b), np.maximum(a, b)
-    rows = max(1, _PAIR_CHUNK // k)
-    for start in range(0, k, rows):
-        i = np.arange(start, min(k, start + rows))
-        ii, jj = np.meshgrid(i, np.arange(k), indexing="ij")
-        ii, jj = ii.ravel(), jj.ravel()
+    for ii, jj in _box_pairs(lo, hi):
         gap = (jj - ii) % k
-        keep = (jj > ii) & (gap > 1) & (gap < k - 1)
+        keep = (gap > 1) & (gap < k - 1)
         ii, jj = ii[keep], jj[keep]
         boxes = np.all((lo[ii] <= hi[jj]) & (lo[jj] <= hi[ii]), axis=1)
         ii, jj = ii[boxes], jj[boxes]
@@ -132,6 +135,35 @@ def self_intersections(points: np.ndarray, poly: np.ndarray) -> np.ndarray:
             bad[ii[meet]] = True
             bad[jj[meet]] = True
     return np.flatnonzero(bad)
+
+
+def _box_pairs(lo: np.ndarray, hi: np.ndarray):
+    """Every pair ``(i, j)`` of edges whose x-extents overlap, once, in chunks of at most :data:`_PAIR_CHUNK`.
+
+    A sweep over the edges sorted by their left end: edge ``j`` overlaps
+    edge ``i`` in x, with ``j`` after ``i`` in that order, exactly when its
+    left end lies in ``[lo_i, hi_i]``, so a binary search gives each edge's
+    partners as one contiguous run.  The cost is the number of overlapping
+    pairs (a few per edge for a polygon of short edges, such as any hull, or
+    any reversal of one), not ``k**2``; the boxes' y-overlap and the exact
+    test follow in the caller.
+    """
+    order = np.argsort(lo[:, 0], kind="stable")
+    left = lo[order, 0]
+    end = np.searchsorted(left, hi[order, 0], side="right")  # partners of sorted edge t: t+1 .. end-1
+    count = np.maximum(end - np.arange(len(order)) - 1, 0)
+    total = np.cumsum(count)
+    start = 0
+    while start < len(order):
+        stop = int(np.searchsorted(total, (total[start - 1] if start else 0) + _PAIR_CHUNK, side="right"))
+        stop = max(stop, start + 1)
+        t = np.arange(start, min(stop, len(order)))
+        c = count[t]
+        if c.sum():
+            first = np.repeat(t, c)
+            offset = np.arange(int(c.sum())) - np.repeat(np.cumsum(c) - c, c)
+            yield order[first], order[first + 1 + offset]
+        start = int(t[-1]) + 1
 
 
 def check_polygon2d(

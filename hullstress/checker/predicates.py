@@ -2,20 +2,45 @@
 
 Every function here returns the *exact* sign of a polynomial in float64
 inputs, for every finite input (huge, tiny and subnormal included).  Each call
-runs four stages on the rows still undecided (when the filter leaves at most
-:data:`FEW_FOR_INTEGERS` rows, they go from stage 1 straight to stage 4, which
-is cheaper for a few rows than the fixed cost of stages 2 and 3):
+runs these stages on the rows still undecided (when stage 1b leaves at most
+:data:`FEW_FOR_INTEGERS` rows, they go straight to stage 4, which is cheaper
+for a few rows than the fixed cost of stages 2 and 3):
 
 1. **Floating-point filter** (Shewchuk, "Adaptive precision floating-point
    arithmetic and fast robust geometric predicates", 1997): the determinant in
    float64 and his proven error bound ``ccwerrboundA`` / ``o3derrboundA``
    (in 3D times the product of the rows' L1 norms, an upper bound of his
    permanent that costs fewer operations).
-   Shewchuk's bound assumes no underflow and no overflow.  Overflow turns some
-   intermediate into inf or NaN, which makes the comparison false (the row is
-   undecided).  Underflow can only lose an absolute ``2**-1075`` per product,
-   amplified at most by the size of the last factor; a ``2**-1000``-scale
-   absolute term covers it (see :func:`_decided`).
+   Shewchuk's bound assumes no underflow and no overflow; a row is decided
+   only where both are excluded or covered (issue 33):
+
+   *Overflow.*  Under ``+ - *`` an inf or NaN intermediate never becomes
+   finite again, so a finite determinant means that no intermediate of it
+   overflowed; every filter here requires ``det`` finite as well as
+   ``|det| > bound`` (:func:`_decided`, :func:`filter2_columns`,
+   :func:`filter3_columns`, :func:`_orient_mean`).  Comparing alone is not
+   enough: the bound is computed along another path (``(tiny x huge) x
+   huge``) and stays finite where ``det``'s products overflow, and
+   ``|inf| > finite`` once decided rows with the wrong sign (F1, F2).  A
+   bound that overflows is inf, and nothing beats it.
+
+   *Underflow.*  A product that underflows has an absolute error of at most
+   ``2**-1075`` besides its relative one (sums and differences of floats are
+   exact in the subnormal range).  In 2D such an error enters ``det``
+   directly; in 3D the xy-products' errors are multiplied by a z difference.
+   The bound itself loses at most ``2**-1075`` times the last factor when
+   ``|a| * |b|`` (2D: ``|left| + |right|``; 3D: ``norm_a * norm_b``) sinks below
+   the normal range.  The absolute term ``2**-1000`` (2D) and
+   ``2**-1000 (1 + norm_a + norm_b + norm_c)`` (3D, the rows' L1 norms)
+   covers all of these with a factor above ``2**60`` to spare.  The relative
+   slack ``1 + 2**-40`` covers the rounding of the bound's own evaluation.
+
+1b. **Row-scaled filter** (:func:`_scaled_filter`): rows stage 1 leaves open
+   are filtered again on their differences scaled by a power of two to below
+   1.  Nothing can overflow then, and an entry that rounds below the normal
+   range moves the determinant by less than the same absolute term.  Mixed
+   magnitudes (1e300 with 1e-300, which no exact global scaling can bring
+   into range) are settled here instead of in integer arithmetic.
 2. **Exact-evaluation check**: the same determinant with the error of every
    operation computed by error-free transformations (Knuth's TwoSum, Dekker's
    TwoProduct).  When every error is zero, the float result *is* the exact
@@ -45,7 +70,16 @@ from outside exactly when ``orient3d(a, b, c, p) < 0``.
 
 The ``*_mean`` variants take the last point as the mean of several points,
 exactly (no rounding of the mean): the determinant is affine in that row, so
-its sign is the sign of the sum of the determinants with each point.
+its sign is the sign of the sum of the determinants with each point.  Their
+filter sums the terms' bounds plus ``2 m eps`` times the sum of the terms'
+magnitudes (the rounding of an ``m``-term float sum), and decides only when
+every term is finite; the rest go to integers.
+
+Stages 2 and 3 decide only finite values inside the ranges their error-free
+transformations need (``_two_prod_exact``: no split overflow, products above
+``2**-969``; ``_in_dd_range``: differences in ``[2**-300, 2**300]``), and
+stage 4 is exact for every finite input.  docs/checker.md lists every float
+shortcut of the checker with the argument for its soundness.
 """
 
 from __future__ import annotations
@@ -107,8 +141,11 @@ def _rows(points: Sequence, dim: int) -> tuple[list[np.ndarray], int]:
         if a.ndim != 2 or a.shape[1] != dim:
             raise ValueError(f"argument {i} must have shape (k, {dim}) or ({dim},), got {np.shape(p)}")
         arrs.append(a)
-    k = max(a.shape[0] for a in arrs)
-    if any(a.shape[0] not in (1, k) for a in arrs):
+    # numpy's rule: counts of 1 stretch to the others, which must agree (0 included: a
+    # batch of no rows against one fixed point is empty, issue 33 F8).
+    counts = {a.shape[0] for a in arrs} - {1}
+    k = counts.pop() if len(counts) == 1 else 1
+    if counts:
         raise ValueError(f"arguments must broadcast: got row counts {[a.shape[0] for a in arrs]}")
     return arrs, k
 
@@ -265,10 +302,14 @@ def _dd_eval3(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz) -> tuple[np.ndarra
 def _decided(det: np.ndarray, errbound: np.ndarray, noise: np.ndarray | float) -> np.ndarray:
     """Rows whose float determinant has a certain sign.
 
-    NaN and inf (overflow) compare false, so such rows stay undecided.
+    A row is decided only when ``det`` is finite (no intermediate overflowed:
+    an inf or NaN intermediate never turns finite again under ``+ - *``) and
+    exceeds a finite bound.  An infinite ``det`` with a finite bound is *not*
+    decided: the bound is computed along another path ((tiny x huge) x huge)
+    and can stay finite where the determinant's products overflow (issue 33, F1).
     """
     with np.errstate(invalid="ignore", over="ignore"):
-        return np.abs(det) > errbound * _SLACK + noise
+        return np.isfinite(det) & (np.abs(det) > errbound * _SLACK + noise)
 
 
 def _to_ints(cols: list[np.ndarray], *, exponents: bool = False):
@@ -342,7 +383,11 @@ def filter2_columns(diff: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """
     left = diff[0, 0] * diff[1, 1]
     right = diff[1, 0] * diff[0, 1]
-    return left - right, CCW_ERRBOUND_A * (np.abs(left) + np.abs(right)) * _SLACK + _TINY
+    det = left - right
+    bound = CCW_ERRBOUND_A * (np.abs(left) + np.abs(right)) * _SLACK + _TINY
+    # inf - finite is inf, and |left| + |right| is then inf too; NaN compares false.  Kept
+    # explicit so no later change of the bound can let an overflowed row through.
+    return det, np.where(np.isfinite(det), bound, np.inf)
 
 
 def filter3_columns(diff: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -355,8 +400,10 @@ def filter3_columns(diff: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     det = _det3_value(*(diff[c, i] for i in range(3) for c in range(3)))
     absolute = np.abs(diff)
     norms = absolute.sum(axis=0)  # (|x| + |y|) + |z| of each row, slab by slab
-    noise = _TINY * (1.0 + absolute[2, 0] + absolute[2, 1] + absolute[2, 2])
-    return det, O3D_ERRBOUND_A * ((norms[0] * norms[1]) * norms[2]) * _SLACK + noise
+    noise = _TINY * (((1.0 + norms[0]) + norms[1]) + norms[2])
+    bound = O3D_ERRBOUND_A * ((norms[0] * norms[1]) * norms[2]) * _SLACK + noise
+    # An overflowed determinant is undecided: its bound must not be beaten by inf (F1).
+    return det, np.where(np.isfinite(det), bound, np.inf)
 
 
 def _det3_value(adx, ady, adz, bdx, bdy, bdz, cdx, cdy, cdz):
@@ -377,8 +424,50 @@ def _det3(adx, ady, adz, bdx, bdy, bdz, cdx, cdy, cdz):
     norm_a = np.abs(adx) + np.abs(ady) + aadz
     norm_b = np.abs(bdx) + np.abs(bdy) + abdz
     norm_c = np.abs(cdx) + np.abs(cdy) + acdz
-    noise = _TINY * (1.0 + aadz + abdz + acdz)
+    # The underflow term covers (see the module docstring) the products that underflow in
+    # ``det`` (each at most 2**-1075, then times a z difference) and in the bound itself
+    # (``norm_a * norm_b`` sinking below the normal range loses 2**-1075 times ``norm_c``).
+    noise = _TINY * (((1.0 + norm_a) + norm_b) + norm_c)
     return det, O3D_ERRBOUND_A * ((norm_a * norm_b) * norm_c), noise
+
+
+def _scaled_filter(cols: list[np.ndarray], dim: int) -> tuple[np.ndarray, np.ndarray]:
+    """The float filter on each row's differences scaled by a power of two to below 1 (stage 1b).
+
+    ``d_i = fl(p_i - p_last)`` are the differences the plain filter uses (one
+    rounding each, or inf: such a row is left undecided).  Each row is scaled
+    by ``2**-e``, ``e`` the exponent of its largest ``|d_i|``: exact, except
+    that an entry falling below the normal range is rounded, by at most
+    ``2**-1075`` absolutely.  With every entry below 1 in magnitude, nothing
+    can overflow, and a perturbation of ``2**-1075`` in one entry moves the
+    determinant by at most that times a cofactor (at most 2), so the whole
+    rescaling and every underflowed product stay far below the absolute term
+    ``_TINY`` of the bound; the relative part is Shewchuk's, as in stage 1.
+    The sign of the scaled determinant is the sign of the original one
+    (``2**(-e dim) > 0``).
+    """
+    with np.errstate(all="ignore"):
+        last = cols[dim * dim: dim * (dim + 1)]
+        diff = [cols[i * dim + c] - last[c] for i in range(dim) for c in range(dim)]
+        top = np.abs(diff[0])
+        for d in diff[1:]:
+            top = np.maximum(top, np.abs(d))
+        # Only rows stage 1 may have failed for their magnitude (products overflowing, or
+        # the underflow term dominating): elsewhere scaling changes nothing.
+        finite = np.isfinite(top) & ((top > 2.0**300) | ((top < 2.0**-300) & (top > 0)))
+        if not finite.any():
+            return top, finite
+        shift = -np.frexp(np.where(finite, top, 1.0))[1]
+        scaled = [np.ldexp(d, shift) for d in diff]
+        if dim == 2:
+            (ax, ay), (bx, by) = scaled[:2], scaled[2:]
+            left, right = ax * by, ay * bx
+            det = left - right
+            decided = _decided(det, CCW_ERRBOUND_A * (np.abs(left) + np.abs(right)), _TINY)
+        else:
+            det, errbound, noise = _det3(*scaled)
+            decided = _decided(det, errbound, noise)
+    return det, decided & finite
 
 
 def _coincident(args: list[np.ndarray]) -> np.ndarray:
@@ -411,6 +500,15 @@ def _settle(sign: np.ndarray, decided: np.ndarray, args: list[np.ndarray], dim: 
     if not rest.size:
         return sign
     cols = [col for arr in taken for col in _columns(arr[~zero], dim)]
+    # Rows whose filter overflowed or sank towards underflow (mixed magnitudes such as 1e300
+    # with 1e-300): the same filter on row-scaled differences settles most without integers.
+    value, ok = _scaled_filter(cols, dim)
+    if ok.any():
+        sign[rest[ok]] = np.sign(value[ok]).astype(np.int8)
+        rest = rest[~ok]
+        if not rest.size:
+            return sign
+        cols = [col[~ok] for col in cols]
     exact_eval, dd_eval, int_det = stages
     if rest.size <= FEW_FOR_INTEGERS:
         # A few rows: integers at once (the float stages' fixed cost of a hundred small
@@ -684,6 +782,8 @@ def _orient_mean(dim: int, fixed: list, ds: Sequence[np.ndarray]) -> np.ndarray:
             magnitude = magnitude + np.abs(det)
         # Summing m terms in float adds at most (m - 1) * eps relative to the sum of magnitudes.
         bound = bound + (len(ds) * 2.0 * _EPS) * magnitude
+        # Every term must be finite: an overflowed term makes ``total`` inf or NaN (F1).
+        bound = np.where(np.isfinite(magnitude), bound, np.inf)
         sign = np.sign(total).astype(np.int8)
         todo = np.flatnonzero(~_decided(total, bound, 0.0))
     if todo.size:

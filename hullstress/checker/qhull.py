@@ -463,11 +463,20 @@ def certified_extremes(
     if interior is None or len(candidates) < 4:
         return None
     sub = scaled[candidates]
+    # ``scaled`` is the input itself when no exact scaling exists (1.7e308 beside 0.1): Qhull,
+    # which dies with SIGSEGV near the ends of the range, then runs on a rounded rescaled copy.
+    # Its faces are only candidates; they are certified against the exact coordinates below.
+    top = float(np.abs(sub).max())
+    if top > 0 and not (_QHULL_SAFE_LOW <= top <= _QHULL_SAFE_HIGH):
+        with np.errstate(under="ignore"):
+            qhull_input = np.ldexp(sub, -int(np.frexp(top)[1]))
+    else:
+        qhull_input = sub
     for opts in options or REPAIR_OPTIONS:
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
-                hull = ConvexHull(sub, qhull_options=opts or None)
+                hull = ConvexHull(qhull_input, qhull_options=opts or None)
         except (QhullError, ValueError, RuntimeError):
             continue
         faces = FaceSet.from_triangles(candidates[_oriented_faces(sub, hull, interior)])

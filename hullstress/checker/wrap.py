@@ -16,6 +16,11 @@ infinitesimal ``e > 0``.  Where ``q`` itself is on such a plane, the sign for
 ``q'`` is the sign of the first nonzero coordinate of the plane's normal, an
 exact 2D orientation of the projected points.  ``o`` is strictly off every
 edge's line, so the normal is never zero and every count is decided.
+
+Soundness: the tie-break signs of :func:`break_ties_2d` come from comparisons
+of finite doubles (never ``o - a``, which overflows near 1.7e308); the center
+is the finite :func:`._geometry.vertex_mean` or the exact interior point, and
+every orientation goes through :mod:`.predicates` (issue 33, F3).
 """
 
 from __future__ import annotations
@@ -175,8 +180,9 @@ def break_ties_2d(s: np.ndarray, a: np.ndarray, center: np.ndarray | None, inter
         return
     t = a[tie]
     if center is not None:
-        first = np.sign(center[1] - t[:, 1]).astype(np.int8)
-        second = np.sign(t[:, 0] - center[0]).astype(np.int8)
+        # Comparisons, not differences: exact for every finite float (no rounding, no overflow).
+        first = (center[1] > t[:, 1]).astype(np.int8) - (center[1] < t[:, 1]).astype(np.int8)
+        second = (t[:, 0] > center[0]).astype(np.int8) - (t[:, 0] < center[0]).astype(np.int8)
     else:
         ones = np.ones(len(t))
         rows = interior.rows
