@@ -33,10 +33,14 @@ signature (:attr:`Signature.group_id` names the entry's file), ``run
 compares each call's :func:`verdict_of` with the one recorded, and ``run
 --last-failed`` / ``--failed-first`` take the calls that have a signature.
 Every field is a function of the row alone, so the same code and seed give
-the same signatures whatever ``--workers`` says.  Two things can still move
-a signature: an edit that moves the line an exception is raised from (the
-frame names it, as Hypothesis tells errors apart), and a call that runs close
-to its timeout on a loaded machine (``timeout`` is a status of its own).
+the same signatures whatever ``--workers`` says.  An error's frame is kept
+as module and function without its line number: an edit elsewhere in a
+module (a docstring, a new function above) must not turn a known failure
+into a "new" one and its old self into a "fixed" one in a nightly loop.
+Two raises of the same exception type in one function are therefore one
+group.  What can still move a signature: renaming the function that raises,
+and a call that runs close to its timeout on a loaded machine (``timeout``
+is a status of its own).
 """
 
 from __future__ import annotations
@@ -65,20 +69,27 @@ _SIGNAL = re.compile(r"\((SIG[A-Z0-9]+)\)")
 _EXIT = re.compile(r"exited with code (-?\d+)")
 #: A plug-in file's module name (hullstress.plugins): its stem plus a hash of the file's absolute path.
 _PLUGIN_MODULE = re.compile(r"\bhullstress_plugin_(\w+?)_[0-9a-f]{12}\b")
+#: ``module:line in function`` (the ``error_frame`` column): the line number's place.
+_FRAME_LINE = re.compile(r"^([^:\s]+):\d+ in ")
 
 
 def _frame(value: Any) -> str:
-    """The frame as the identity keeps it: a plug-in's module by its file's stem, not by where the file lives.
+    """The frame as the identity keeps it: ``module in function``, a plug-in's module by its file's stem.
 
-    A corpus committed from CI must name the same groups on a laptop where the
-    checkout is somewhere else.
+    The line number is left out, so that an edit elsewhere in the module does
+    not move the group; a plug-in's module is named by its file's stem, not
+    by the hash of where the file lives, so that a corpus committed from CI
+    names the same groups on a laptop where the checkout is somewhere else.
+    The ``error_frame`` column keeps the line for the reader.
 
     Examples
     --------
     >>> _frame("hullstress_plugin_myhull_0123456789ab:12 in hull")
-    'myhull:12 in hull'
+    'myhull in hull'
+    >>> _frame("hullstress.adapters.scipy_qhull:149 in qhull_3d")
+    'hullstress.adapters.scipy_qhull in qhull_3d'
     """
-    return _PLUGIN_MODULE.sub(r"\1", _text(value))
+    return _FRAME_LINE.sub(r"\1 in ", _PLUGIN_MODULE.sub(r"\1", _text(value)))
 
 
 def _text(value: Any) -> str:
@@ -188,8 +199,8 @@ class Signature:
         For ``error``: the exception type (``internal`` for hullstress's own);
         for ``crash``: the signal (``SIGSEGV``) or ``exit N``; ``""`` otherwise.
     frame : str
-        For ``error``: ``module:line in function``, the innermost frame of the
-        code under test; ``""`` otherwise or when unknown.
+        For ``error``: ``module in function``, the innermost frame of the
+        code under test without its line number; ``""`` otherwise or when unknown.
 
     Examples
     --------
@@ -231,8 +242,8 @@ class Signature:
 
         Examples
         --------
-        >>> Signature("a", "off", "n/a", status="error", error="ZeroDivisionError", frame="m:3 in f").what
-        'error ZeroDivisionError at m:3 in f'
+        >>> Signature("a", "off", "n/a", status="error", error="ZeroDivisionError", frame="m in f").what
+        'error ZeroDivisionError at m in f'
         """
         parts = [self.status]
         if self.stage != DEFAULT_STAGE:
