@@ -30,6 +30,8 @@ from hullstress.options import DEFAULTS
 
 PY = sys.executable
 HOLDER = Path(__file__).resolve().parent / "programs" / "phase_holder.py"
+#: A 2D program that hulls correctly (the probe at registration must accept it).
+PLANTED_OK = f"{sys.executable} {Path(__file__).resolve().parent / 'programs' / 'planted_hull.py'} ok"
 
 
 def _hullstress(*args: str, cwd: Path, env: dict[str, str] | None = None,
@@ -49,8 +51,9 @@ MISSPELLED = {
     "algorithm": (["run", "--algorithm", "monotone-chian"], "'monotone-chain'"),
     "generator": (["run", "--generator", "near-coplanr"], "'near-coplanar'"),
     "generator parameter": (["run", "--generator", "near-coplanar:dleta=1e-9"], "'delta'"),
-    "executable": (["run", "--exec", "my-qhull[dim=2]=python3 -c pass", "--algorithm", "my-qhul"], "'my-qhull'"),
-    "clockwise executable": (["run", "--exec", "my-qhull[dim=2]=python3 -c pass", "--clockwise", "my-qhul"],
+    "executable": (["run", "--exec", f"my-qhull[dim=2,output=Fx]={PLANTED_OK}", "--algorithm", "my-qhul"],
+                   "'my-qhull'"),
+    "clockwise executable": (["run", "--exec", f"my-qhull[dim=2,output=Fx]={PLANTED_OK}", "--clockwise", "my-qhul"],
                              "'my-qhull'"),
     "profile": (["run", "--profile", "nigthly"], "'nightly'"),
     "check": (["shrink", "--algorithm", "jarvis-march", "--check", "convexty", "points.npy"], "'convexity'"),
@@ -349,19 +352,28 @@ def test_severity_is_described_with_its_reason(grade, distance, manifold, detail
 
 # -- 8. input Qhull's format cannot carry is not given to a program ----------------------------------------------
 
-LOGGING_PROGRAM = '''
+#: Logs the point count and finiteness of every input it is given; hulls only the probe's five points
+#: (registration refuses a program that cannot hull at all) and declines everything else.
+LOGGING_PROGRAM = f'''
 import os, sys
+sys.path.insert(0, {str(Path(__file__).resolve().parent / "programs")!r})
+from planted_hull import hull, read_points
 data = sys.stdin.read()
 with open(os.environ["GIVEN_LOG"], "a") as fh:
     fh.write(data.split("\\n", 2)[1] + " " + ("nan" if "nan" in data or "inf" in data else "finite") + "\\n")
-sys.exit(1)
+points = read_points(data)
+if len(points) != 5:
+    sys.exit(1)
+answer = hull(points)
+print(len(answer))
+print("\\n".join(map(str, answer)))
 '''
 
 
 def test_a_program_is_not_given_input_that_qhulls_format_cannot_carry(tmp_path):
     (tmp_path / "logging_program.py").write_text(LOGGING_PROGRAM)
     log = tmp_path / "given.log"
-    done = _hullstress("run", "--exec", f"logger[dim=2]={PY} logging_program.py", "--algorithm", "logger",
+    done = _hullstress("run", "--exec", f"logger[dim=2,output=Fx]={PY} logging_program.py", "--algorithm", "logger",
                        "--generator", "bad-input", "--no-shrink", "--out", "out", cwd=tmp_path,
                        env={"GIVEN_LOG": str(log)})
     assert done.returncode in (0, 1), done.stderr
