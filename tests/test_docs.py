@@ -265,7 +265,7 @@ def _check_contract_runs(cwd, results):
 
 def _check_real_qconvex(cwd, results):
     meta = json.loads((_run_dir(cwd, results[-1]) / "run.json").read_text())
-    programs = [e["program"] for e in meta["executables"]]
+    programs = [e["program"] for e in meta["executables"].values()]
     assert programs and all("cmeel.prefix" in p for p in programs), programs
 
 
