@@ -303,7 +303,8 @@ JOURNEYS: dict[str, Journey] = {
                                check=_check_nightly_by_hand),
     "replay-accept": Journey(covered_by="tests/test_corpus_loop.py (replay --accept after a fix)"),
     # docs/recovering-runs.md
-    "report-command": Journey(covered_by="tests/test_interrupt.py (report on an interrupted run's folder)"),
+    "report-command": Journey(covered_by="tests/test_first_hour.py::"
+                              "test_a_crash_without_isolation_leaves_its_rows_and_the_report_command_makes_the_report"),
     # docs/executables.md
     "exec-driver-c": Journey(covered_by="tests/test_drivers.py::test_driver_is_fuzzed_by_the_quick_profile"),
     "exec-driver-js": Journey(covered_by="tests/test_drivers.py::test_driver_is_fuzzed_by_the_quick_profile"),
@@ -320,7 +321,8 @@ JOURNEYS: dict[str, Journey] = {
                                 "hullstress/report/handover.py _words() reads w['spanning'] of a zero signed-area "
                                 "witness that has none (KeyError) while writing bug-report.md"),
     # docs/failure-folders.md
-    "verify-certificate": Journey(covered_by="tests/test_handover.py::test_the_verifier_accepts_every_certificate_of_the_run"),
+    "verify-certificate": Journey(covered_by="tests/test_handover.py::"
+                                  "test_the_verifier_accepts_every_certificate_of_the_run"),
     "failure-folder-example": Journey(covered_by="tests/test_handover.py (repro.py, verify.py and bug-report.md "
                                       "in every failure folder of a run; the page's <run> is the user's)"),
     "mutation": Journey(covered_by="the nightly workflow's mutation job (test_mutation_block_is_the_workflow_s)"),
