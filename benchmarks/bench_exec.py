@@ -30,7 +30,7 @@ binary that hullstress runs in its place.
 Every figure is measured in the same run; wall-clock figures are the best of
 several rounds, and on a loaded machine all of them are still depressed (the
 table's header gives the load).  Writes
-``docs/figures/bench_exec.md`` (included by docs/executables.md).
+``docs/figures/bench_exec.md`` (included by docs/performance.md).
 
 Usage: ``python benchmarks/bench_exec.py [--calls K] [--out FILE]``
 (builds ``make -C drivers example`` first; ``make -C drivers qhull`` and
@@ -297,6 +297,8 @@ def main(argv: list[str] | None = None) -> int:
                 starts = _start_costs(driver)
                 print(*starts, sep="\n", flush=True)
     text = "\n".join([
+        # The header every figure file starts with (benchmarks/_figures.py): the docs test checks it.
+        "<!-- Written by benchmarks/bench_exec.py: do not edit by hand, re-run the command below. -->",
         f"Measured by `python benchmarks/bench_exec.py` on {time.strftime('%Y-%m-%d %H:%M %Z')}; "
         f"load average {load_before} before, {load_average()} after.  Per-call figures are on {POINTS}-point "
         "cases, judged as a worker judges them, best of 5 rounds; \"overhead\" is spawn mode minus the direct "

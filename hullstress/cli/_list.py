@@ -85,7 +85,7 @@ def _checks() -> list[str]:
     }
     return (["checks (all exact):"] + [f"  {c:<16} {text[c]}" for c in CHECKS]
             + ["  lower-dimensional input (a point, a segment, a flat polygon) is judged against its exact hull "
-               "instead; see README \"Lower-dimensional input\""])
+               "instead; see docs/lower-dimensional.md"])
 
 
 def render(what: str | None) -> str:
