@@ -16,6 +16,7 @@ import subprocess
 import sys
 import sysconfig
 from pathlib import Path
+from fractions import Fraction
 
 import numpy as np
 import pytest
@@ -370,3 +371,14 @@ def test_a_synthetic_3d_certificate_covers_each_surface_witness(tmp_path):
     cert = build_certificate(tet, open_surface, dim=3, failed_checks=["manifoldness"], points_file="given.json",
                              faces_file="given.json")
     assert "edge-count" in {w["kind"] for w in cert["witnesses"]}
+
+
+@pytest.mark.parametrize("value", [Fraction(1, 2**1100), Fraction(-3, 2**1080), Fraction(5, 2**1074),
+                                   Fraction(1, 2**1074), Fraction(-0.5), Fraction(2**60 + 1)])
+def test_exact_text_reads_back_exactly_outside_the_double_range(value):
+    """An exact area of 2**-1100 once printed as 0x0.0p+0: a zero witness that bug-report.md could not word."""
+    from hullstress.report.certificate_json import exact_text
+
+    text = exact_text(value)
+    back = Fraction(float.fromhex(text)) if "/" not in text and "x" in text else Fraction(text)
+    assert back == value, text

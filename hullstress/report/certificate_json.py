@@ -70,7 +70,14 @@ def exact_text(x: Fraction | float) -> str:
     """A double as ``float.hex``, any other rational as ``"p/q"`` (both read back exactly)."""
     x = Fraction(x)
     if x.denominator & (x.denominator - 1) == 0 and abs(x.numerator) < 2**53:
-        return float(x).hex()  # a dyadic rational with a 53-bit numerator is a double, exactly
+        # A dyadic rational with a 53-bit numerator is a double only inside the exponent range: an exact
+        # area of 2**-1100 would round to 0.0 (and a huge one overflow), so the round trip decides.
+        try:
+            as_float = float(x)
+        except OverflowError:
+            as_float = None
+        if as_float is not None and Fraction(as_float) == x:
+            return as_float.hex()
     return f"{x.numerator}/{x.denominator}"
 
 
