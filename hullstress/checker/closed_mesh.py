@@ -154,20 +154,43 @@ def _signs_and_measure(
         return sign, measure
 
 
+def _sort_with_positions(keys: np.ndarray, limit: int) -> tuple[np.ndarray, np.ndarray]:
+    """``(order, keys[order])`` with ``order`` sorting the non-negative ``keys`` (all below ``limit``).
+
+    Where key and position fit in one int64 together, one plain sort of the packed
+    values gives both: about three times faster than ``argsort`` on millions of keys.
+    """
+    shift = max(1, int(len(keys)).bit_length())
+    if limit < 2 ** (63 - shift):
+        packed = np.sort((keys << shift) | np.arange(len(keys), dtype=np.int64))
+        return packed & ((1 << shift) - 1), packed >> shift
+    order = np.argsort(keys)
+    return order, keys[order]
+
+
 def _gatherer(points: np.ndarray, idx: np.ndarray, fixed: list[tuple[int, int, int, np.ndarray]]):
     """``gather(start, stop)`` for :func:`_signs_and_measure`: the coordinates of rows ``idx[:, start:stop]``.
 
     ``fixed``: ``(p, first, last, point)``, the p-th point of rows ``first:last``
-    is ``point`` (the mean, the ray point), whatever ``idx`` says there.
+    is ``point`` (the mean, the ray point, the volume's reference vertex): it is
+    filled in, not gathered (the gather, a random access per coordinate, is the
+    batch's largest cost).
     """
     columns = points.T
+    dim = points.shape[1]
 
     def gather(start: int, stop: int) -> np.ndarray:
-        coords = columns[:, idx[:, start:stop]]  # (dim, dim + 1, rows), each coordinate row contiguous
-        for p, first, last, point in fixed:
-            lo, hi = max(first, start), min(last, stop)
-            if lo < hi:
-                coords[:, p, lo - start : hi - start] = point[:, None]
+        coords = np.empty((dim, idx.shape[0], stop - start))  # each coordinate row contiguous
+        for p in range(idx.shape[0]):
+            cuts = [start, stop]  # the rows of this slab whose p-th point is gathered: between fixed blocks
+            for q, first, last, point in fixed:
+                lo, hi = max(first, start), min(last, stop)
+                if q == p and lo < hi:
+                    coords[:, p, lo - start : hi - start] = point[:, None]
+                    cuts[-1:] = [lo, hi, stop]
+            for lo, hi in zip(cuts[0::2], cuts[1::2]):  # ("clip": unbuffered; every index is in range)
+                if lo < hi:
+                    np.take(columns, idx[p, lo:hi], axis=1, out=coords[:, p, lo - start : hi - start], mode="clip")
         return coords
 
     return gather
@@ -196,17 +219,25 @@ def certify_closed_mesh(points: np.ndarray, faces: FaceSet, *, seed: int = 0) ->
     # Half-edge j runs src[j] -> dst[j] in triangle j // 3; its twin runs back.
     src = tri.ravel()
     dst = tri[:, _NEXT].ravel()
-    key = src * n + dst
-    order = np.argsort(key)
-    ordered = key[order]
-    if np.any(ordered[1:] == ordered[:-1]):
+    # Every directed edge once and its reverse once means: every undirected edge exactly
+    # twice, in opposite directions.  One sort of the undirected keys puts the two side
+    # by side (a search of each reverse key in the sorted directed keys cost ten times
+    # more on 6 million half-edges: every look-up a cache miss).
+    forward = src < dst
+    undirected = np.minimum(src, dst) * n + np.maximum(src, dst)
+    order, ordered = _sort_with_positions(undirected, n * n)
+    first, second = order[0::2], order[1::2]
+    if (
+        len(order) % 2
+        or np.any(ordered[0::2] != ordered[1::2])
+        or np.any(ordered[2::2] == ordered[1:-1:2])
+        or np.any(forward[first] == forward[second])  # (a loop u -> u is never forward)
+    ):
         return None
-    reverse = dst * n + src
-    pos = np.minimum(np.searchsorted(ordered, reverse), len(key) - 1)
-    if np.any(ordered[pos] != reverse):
-        return None
-    half = (src < dst).nonzero()[0]  # one half-edge per edge
-    twin = order[pos[half]]
+    partner = np.empty(len(order), dtype=np.int64)
+    partner[first], partner[second] = second, first
+    half = forward.nonzero()[0]  # one half-edge per edge
+    twin = partner[half]
     is_vertex = np.zeros(n, dtype=bool)
     is_vertex[src] = True
     vertices = is_vertex.nonzero()[0]
@@ -236,7 +267,8 @@ def certify_closed_mesh(points: np.ndarray, faces: FaceSet, *, seed: int = 0) ->
         idx[3, 2 * e + m : signed] = np.repeat(candidates, m)
     lowest = rotated_to_lowest(faces).indices.reshape(-1, 3)
     idx[0, signed:], idx[1, signed:], idx[2, signed:], idx[3, signed:] = vertices[0], lowest[:, 1], lowest[:, 0], lowest[:, 2]
-    gather = _gatherer(points, idx, [(3, e, e + m, mean), (0, e + m, 2 * e + m, mean), (3, e + m, 2 * e + m, q)])
+    gather = _gatherer(points, idx, [(3, e, e + m, mean), (0, e + m, 2 * e + m, mean), (3, e + m, 2 * e + m, q),
+                                     (0, signed, signed + m, points[vertices[0]])])
     batch = _signs_and_measure(gather, 3, signed + m, signed)
     if batch is None:
         return None
@@ -312,7 +344,8 @@ def certify_convex_polygon(points: np.ndarray, poly: np.ndarray, *, seed: int = 
         idx[1, 3 * k : signed].reshape(c, k)[:] = nxt
         idx[2, 3 * k : signed] = np.repeat(candidates, k)
     idx[0, signed:], idx[1, signed:], idx[2, signed:] = poly.min(), poly, nxt
-    gather = _gatherer(points, idx, [(2, k, 2 * k, mean), (0, 2 * k, 3 * k, mean), (2, 2 * k, 3 * k, q)])
+    gather = _gatherer(points, idx, [(2, k, 2 * k, mean), (0, 2 * k, 3 * k, mean), (2, 2 * k, 3 * k, q),
+                                     (0, signed, signed + k, points[poly.min()])])
     batch = _signs_and_measure(gather, 2, signed + k, signed)
     if batch is None:
         return None
