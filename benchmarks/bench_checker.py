@@ -22,7 +22,11 @@ Part 2, ``--n`` points (default 100,000) in a 3D ball, best of ``--repeat``:
 
 Part 3, ``--adversarial``: the inputs of issue 33, each judged in a fresh
 process so that its peak memory (``ru_maxrss``) is its own, and scipy's
-``ConvexHull`` timed on the same points in another fresh process:
+``ConvexHull`` timed on the same points in another fresh process.  ``check``
+is timed twice: with its default Qhull reference (it runs Qhull on the points
+and certifies Qhull's hull with the same exact checks, then compares the
+answer's extreme vertices and volume with it) and with ``qhull=False`` (the
+exact checks of the answer alone, what the checker itself costs):
 
 * a 2D circle of ``--wrong-n`` points given clockwise (a wrong answer);
 * a 3D sphere of ``--wrong-n`` points with every face reversed (a wrong answer);
@@ -246,8 +250,8 @@ def _measure_one(task: str, path: str) -> None:
     data = np.load(path)
     points, faces = data["points"], data["faces"]
     start = time.perf_counter()
-    if task == "check":
-        verdict = check(points, faces)
+    if task in ("check", "check-no-qhull"):
+        verdict = check(points, faces, qhull=task == "check")
         extra = {"ok": verdict.ok, "detail": verdict.detail[:120]}
     else:
         with np.errstate(all="ignore"):
@@ -283,8 +287,9 @@ def adversarial(sizes: dict[str, int], repeat: int, seed: int) -> list[str]:
         "sphere": "sphere, every point extreme (right)",
     }
     lines = [
-        "| input | n | check s | check peak MB | ConvexHull s | check / ConvexHull | verdict | target |",
-        "| --- | ---: | ---: | ---: | ---: | ---: | --- | --- |",
+        "| input | n | check s | check peak MB | check --no-qhull s | --no-qhull peak MB | ConvexHull s "
+        "| check / ConvexHull | --no-qhull / ConvexHull | verdict | target |",
+        "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | --- | --- |",
     ]
     with tempfile.TemporaryDirectory() as tmp:
         for kind, n in sizes.items():
@@ -294,18 +299,23 @@ def adversarial(sizes: dict[str, int], repeat: int, seed: int) -> list[str]:
             path = os.path.join(tmp, f"{kind}.npz")
             np.savez(path, points=points, faces=faces)
             del points, faces
-            checks, hulls = [], []
-            for _ in range(repeat):  # interleaved, so the ratio survives a loaded machine
+            checks, alone, hulls = [], [], []
+            for _ in range(repeat):  # interleaved, so the ratios survive a loaded machine
                 checks.append(_child("check", path))
+                alone.append(_child("check-no-qhull", path))
                 hulls.append(_child("hull", path))
             c = min(checks, key=lambda r: r["seconds"])
+            a = min(alone, key=lambda r: r["seconds"])
             h = min(hulls, key=lambda r: r["seconds"])
-            peak = max(r["peak_mb"] for r in checks)
+            if a["ok"] != c["ok"]:
+                raise SystemExit(f"{kind}: check and check --no-qhull disagree ({c['detail']!r} / {a['detail']!r})")
+            peak, peak_alone = max(r["peak_mb"] for r in checks), max(r["peak_mb"] for r in alone)
             hull_note = f"{h['seconds']:.3f}" if h["ok"] else f"fails ({h.get('detail', '')})"
             ratio = f"{c['seconds'] / h['seconds']:.2f}x" if h["ok"] else "-"
+            ratio_alone = f"{a['seconds'] / h['seconds']:.2f}x" if h["ok"] else "-"
             verdict = "valid" if c["ok"] else "invalid"
-            lines.append(f"| {what[kind]} | {n} | {c['seconds']:.3f} | {peak:.0f} | {hull_note} | {ratio} | {verdict} "
-                         f"| {targets[kind]} |")
+            lines.append(f"| {what[kind]} | {n} | {c['seconds']:.3f} | {peak:.0f} | {a['seconds']:.3f} | {peak_alone:.0f} "
+                         f"| {hull_note} | {ratio} | {ratio_alone} | {verdict} | {targets[kind]} |")
     return lines
 
 
