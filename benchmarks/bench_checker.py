@@ -34,8 +34,8 @@ exact checks of the answer alone, what the checker itself costs):
   their correct hull (mixed magnitudes: no exact scaling brings them into range);
 * ``--sphere-n`` points on a sphere, every one extreme, with their correct hull.
 
-The figures go to ``docs/figures/bench_checker.md`` (``--figures`` elsewhere),
-which docs/checker.md includes.
+The figures go to ``docs/figures/bench_checker.md`` (``--figures FILE`` elsewhere, ``none``
+for no file), under the header of ``benchmarks/_figures.py``; docs/checker.md includes it.
 
 Every figure is the best of ``--repeat`` rounds, and every ratio is taken
 against ConvexHull measured in the same run, interleaved, so that the ratios
@@ -62,6 +62,7 @@ from pathlib import Path
 import numpy as np
 from scipy.spatial import ConvexHull
 
+from _figures import add_figures_option, recorded  # a sibling: benchmarks run as scripts
 from hullstress.adapters.executable import locate_program
 from hullstress.checker import check, qhull_reference
 from hullstress.io import write_points
@@ -215,10 +216,6 @@ def large(n: int, repeat: int, seed: int, brute: bool, clock) -> list[str]:
 
 # --------------------------------------------------------------------------- part 3: adversarial inputs
 
-#: Figures file the documentation includes (docs/checker.md).
-FIGURES = Path(__file__).resolve().parent.parent / "docs" / "figures" / "bench_checker.md"
-
-
 def _outward(points: np.ndarray, hull: ConvexHull) -> np.ndarray:
     tri = hull.simplices.copy()
     a, b, c = (points[tri[:, k]] for k in range(3))
@@ -319,12 +316,6 @@ def adversarial(sizes: dict[str, int], repeat: int, seed: int) -> list[str]:
     return lines
 
 
-def write_figures(lines: list[str], header: str, path: Path) -> None:
-    """Write the part-3 table (a Markdown file the docs include); nobody types these figures."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(header + "\n\n" + "\n".join(lines) + "\n")
-
-
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sizes", default="24,100,1000", help="comma-separated small sizes (part 1)")
@@ -338,7 +329,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--wrong-n", type=int, default=100_000, help="points of the wrong 2D and 3D answers")
     parser.add_argument("--mixed-n", type=int, default=200_000, help="points of the mixed-magnitude input")
     parser.add_argument("--sphere-n", type=int, default=1_000_000, help="points of the all-extreme sphere")
-    parser.add_argument("--figures", type=Path, default=FIGURES, help="where part 3 writes its table")
+    add_figures_option(parser, "bench_checker")  # part 3 only
     parser.add_argument("--measure", nargs=2, metavar=("TASK", "NPZ"), help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     clock = time.perf_counter if args.clock == "wall" else time.process_time
@@ -348,14 +339,13 @@ def main(argv: list[str] | None = None) -> int:
     if args.adversarial:
         sizes = {"circle-clockwise": args.wrong_n, "sphere-reversed": args.wrong_n, "mixed": args.mixed_n,
                  "sphere": args.sphere_n}
-        lines = adversarial(sizes, args.repeat, args.seed)
-        load = ", ".join(f"{x:.2f}" for x in os.getloadavg())
-        header = (f"Issue 33's inputs, seed {args.seed}, best of {args.repeat} fresh processes each "
-                  f"(wall clock; load average {load} on {os.cpu_count()} CPUs when written; "
-                  f"ConvexHull timed on the same points in the same run)")
-        print(header + "\n\n" + "\n".join(lines))
-        write_figures(lines, header, args.figures)
-        print(f"\n(written to {args.figures})")
+        reference = "scipy's ConvexHull on the same points, each run in a fresh process, interleaved with check's"
+        with recorded(args.figures, "bench_checker", reference):
+            lines = adversarial(sizes, args.repeat, args.seed)
+            load = ", ".join(f"{x:.2f}" for x in os.getloadavg())
+            print(f"Issue 33's inputs, seed {args.seed}, best of {args.repeat} fresh processes each "
+                  f"(wall clock; load average {load} (1, 5, 15 min) on {os.cpu_count()} CPUs at the end)\n")
+            print("\n".join(lines))
         return 0
 
     sizes = [int(s) for s in args.sizes.split(",") if s.strip()]

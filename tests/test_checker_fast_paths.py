@@ -1,95 +1,85 @@
-"""The checker's speed-ups give exactly what the plain numpy operations give (issue 33's perf targets)."""
+"""The checker's shortcuts change no verdict: every case of the quick profile, both ways.
+
+Two shortcuts serve the common case (issue 19): the batched certificate of a
+closed convex triangle mesh or polygon (:mod:`hullstress.checker.closed_mesh`),
+and the reuse of a certified Qhull reference's certificate when the output is
+the same face set.  Both only ever conclude "certified", deferring to the
+general checks otherwise.  Here every case of the quick profile (degenerate,
+extreme-scale and bad-input families included) is checked with the outputs of
+the in-house algorithms and of scipy's Qhull, once with the shortcuts and once
+with the general checks alone (reference included), and the verdicts must be
+identical, field for field and bit for bit.
+"""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from hullstress.checker import check
-from hullstress.checker._unique import unique_ints
-from hullstress.checker.closed_mesh import _sort_with_positions, certify_closed_mesh
-from hullstress.contract import FaceSet
+from hullstress._registry import algorithms, load_builtins
+from hullstress.checker import certify as certify_module
+from hullstress.checker import check, qhull_reference
+from hullstress.config import AlgorithmConfig
+from hullstress.evaluate import call_algorithm, input_problem
+from hullstress.sweep import SweepOptions, build_cases
+
+# Qhull may die with SIGSEGV on raw points near the ends of the double range (the
+# reference itself rescales them); the scipy adapters run on the raw points.
+_SAFE = (2.0**-400, 2.0**400)
 
 
-@pytest.mark.parametrize("dtype", [np.int64, np.int32, np.uint8, np.bool_])
-@pytest.mark.parametrize("shape", [(0,), (1,), (7,), (50, 3)])
-def test_unique_ints_is_np_unique(dtype, shape):
-    values = np.random.default_rng(sum(shape)).integers(0, 20, size=shape).astype(dtype)
-    got, want = unique_ints(values), np.unique(values)
-    assert got.dtype == want.dtype
-    assert np.array_equal(got, want)
+def _configs(dim: int, points: np.ndarray) -> list[AlgorithmConfig]:
+    configs = []
+    for spec in algorithms(dim):
+        if spec.origin == "in-house":
+            configs.append(AlgorithmConfig(spec.name, "off", "fixed" if spec.takes_eps else "n/a"))
+        elif spec.name in ("scipy-qhull-2d", "scipy-qhull-3d"):
+            top = float(np.abs(points).max()) if points.size else 0.0
+            if _SAFE[0] <= top <= _SAFE[1]:
+                configs.append(AlgorithmConfig(spec.name, "off", "n/a"))
+    return configs
 
 
-def test_unique_ints_refuses_floats():
-    with pytest.raises(TypeError, match="float64"):
-        unique_ints(np.array([0.5, 0.5]))
+def _outputs():
+    load_builtins()
+    cases, _ = build_cases(SweepOptions(profile="quick"))
+    out = []
+    for case in cases:
+        if input_problem(case.points, case.dim) is not None:
+            continue
+        for config in _configs(case.dim, case.points):
+            outcome = call_algorithm(case, config)
+            if outcome.kind == "ok":
+                out.append((case, config.label, outcome.faces))
+    return out
 
 
-@pytest.mark.parametrize("limit", [10**6, 2**62])  # packed sort, and the argsort fallback
-def test_sort_with_positions(limit):
-    keys = np.random.default_rng(1).integers(0, min(limit, 10**6), size=1000)
-    order, ordered = _sort_with_positions(keys, limit)
-    assert np.array_equal(ordered, np.sort(keys))
-    assert np.array_equal(keys[order], ordered)
-    assert np.array_equal(np.sort(order), np.arange(len(keys)))
+@pytest.fixture(scope="module")
+def outputs():
+    return _outputs()
 
 
-TETRA = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]])
-TETRA_FACES = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]
-
-
-def test_closed_mesh_pairs_twins():
-    cert = certify_closed_mesh(TETRA, FaceSet.from_triangles(TETRA_FACES))
-    assert cert is not None and cert.certified
-
-
-@pytest.mark.parametrize(
-    "faces",
-    [
-        TETRA_FACES[:3] + [[1, 3, 2]],  # one face reversed: an edge twice in the same direction
-        TETRA_FACES + [[0, 2, 1]],  # a face twice: an edge three times
-        TETRA_FACES[:3] + [[1, 1, 3]],  # a loop edge 1 -> 1
-    ],
-)
-def test_closed_mesh_declines_unpaired_edges(faces):
-    assert certify_closed_mesh(TETRA, FaceSet.from_triangles(faces)) is None
-    assert not check(TETRA, faces, qhull=False).ok
-
-
-def test_sphere_batch_verdict_matches_general_path():
-    """A sphere large enough for slabs: the batched path and Qhull's own certificate agree."""
-    rng = np.random.default_rng(3)
-    p = rng.standard_normal((3000, 3))
-    p /= np.linalg.norm(p, axis=1)[:, None]
-    verdict = check(p, _hull_faces(p))
-    assert verdict.ok and verdict.n_extreme == 3000
-    reversed_verdict = check(p, _hull_faces(p)[:, ::-1])
-    assert not reversed_verdict.ok and reversed_verdict.n_outside == 3000
-
-
-def _hull_faces(p):
-    from scipy.spatial import ConvexHull
-
-    hull = ConvexHull(p)
-    tri = hull.simplices.copy()
-    a, b, c = (p[tri[:, k]] for k in range(3))
-    inward = np.einsum("ij,ij->i", np.cross(b - a, c - a), hull.equations[:, :3]) < 0
-    tri[inward] = tri[inward][:, ::-1]
-    return tri
-
-
-@pytest.mark.parametrize("chunk", [997, 4096])
-def test_slabs_give_the_same_verdict(monkeypatch, chunk):
-    """Rows gathered a slab at a time (slab edges inside the fixed-point blocks) give the one-slab verdict."""
-    import hullstress.checker.closed_mesh as closed_mesh
-
-    rng = np.random.default_rng(4)
-    p = rng.standard_normal((2000, 3))
-    p /= np.linalg.norm(p, axis=1)[:, None]
-    faces = _hull_faces(p)
-    whole = check(p, faces, qhull=False)
-    monkeypatch.setattr(closed_mesh, "_FILTER_CHUNK", chunk)
-    cert = closed_mesh.certify_closed_mesh(p, FaceSet.from_triangles(faces))
-    assert cert is not None and len(cert.extreme) == 2000
-    sliced = check(p, faces, qhull=False)
-    assert (sliced.ok, sliced.detail, sliced.volume) == (whole.ok, whole.detail, whole.volume)
+def test_the_shortcuts_give_the_verdicts_of_the_general_checks(outputs, monkeypatch):
+    assert len(outputs) > 500
+    references = {}
+    shortcut = {}
+    for case, label, faces in outputs:
+        if case.case_id not in references:
+            references[case.case_id] = qhull_reference(case.points)
+        shortcut[(case.case_id, label)] = check(case.points, faces, reference=references[case.case_id])
+    # The general checks alone: no batched certificate (for the reference either), no reuse.
+    monkeypatch.setattr(certify_module, "certify_closed_mesh", lambda *a, **k: None)
+    monkeypatch.setattr(certify_module, "certify_convex_polygon", lambda *a, **k: None)
+    full_references = {}
+    reused = differ = 0
+    for case, label, faces in outputs:
+        if case.case_id not in full_references:
+            full_references[case.case_id] = qhull_reference(case.points)
+        full = check(case.points, faces, reference=full_references[case.case_id], reuse_reference=False)
+        fast = shortcut[(case.case_id, label)]
+        if fast != full:
+            differ += 1
+            print(case.family, case.params, label, "\n  fast:", fast, "\n  full:", full)
+        reused += references[case.case_id].qhull_ok is True and references[case.case_id].same_faces(faces)
+    assert differ == 0
+    assert reused > 100  # the reuse shortcut was exercised, not just the batched certificate
