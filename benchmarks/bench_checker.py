@@ -22,7 +22,11 @@ Part 2, ``--n`` points (default 100,000) in a 3D ball, best of ``--repeat``:
 
 Part 3, ``--adversarial``: the inputs of issue 33, each judged in a fresh
 process so that its peak memory (``ru_maxrss``) is its own, and scipy's
-``ConvexHull`` timed on the same points in another fresh process:
+``ConvexHull`` timed on the same points in another fresh process.  ``check``
+is timed twice: with its default Qhull reference (it runs Qhull on the points
+and certifies Qhull's hull with the same exact checks, then compares the
+answer's extreme vertices and volume with it) and with ``qhull=False`` (the
+exact checks of the answer alone, what the checker itself costs):
 
 * a 2D circle of ``--wrong-n`` points given clockwise (a wrong answer);
 * a 3D sphere of ``--wrong-n`` points with every face reversed (a wrong answer);
@@ -30,8 +34,8 @@ process so that its peak memory (``ru_maxrss``) is its own, and scipy's
   their correct hull (mixed magnitudes: no exact scaling brings them into range);
 * ``--sphere-n`` points on a sphere, every one extreme, with their correct hull.
 
-The figures go to ``docs/figures/bench_checker.md`` (``--figures`` elsewhere),
-which docs/checker.md includes.
+The figures go to ``docs/figures/bench_checker.md`` (``--figures FILE`` elsewhere, ``none``
+for no file), under the header of ``benchmarks/_figures.py``; docs/checker.md includes it.
 
 Every figure is the best of ``--repeat`` rounds, and every ratio is taken
 against ConvexHull measured in the same run, interleaved, so that the ratios
@@ -58,6 +62,7 @@ from pathlib import Path
 import numpy as np
 from scipy.spatial import ConvexHull
 
+from _figures import add_figures_option, recorded  # a sibling: benchmarks run as scripts
 from hullstress.adapters.executable import locate_program
 from hullstress.checker import check, qhull_reference
 from hullstress.io import write_points
@@ -211,10 +216,6 @@ def large(n: int, repeat: int, seed: int, brute: bool, clock) -> list[str]:
 
 # --------------------------------------------------------------------------- part 3: adversarial inputs
 
-#: Figures file the documentation includes (docs/checker.md).
-FIGURES = Path(__file__).resolve().parent.parent / "docs" / "figures" / "bench_checker.md"
-
-
 def _outward(points: np.ndarray, hull: ConvexHull) -> np.ndarray:
     tri = hull.simplices.copy()
     a, b, c = (points[tri[:, k]] for k in range(3))
@@ -246,8 +247,8 @@ def _measure_one(task: str, path: str) -> None:
     data = np.load(path)
     points, faces = data["points"], data["faces"]
     start = time.perf_counter()
-    if task == "check":
-        verdict = check(points, faces)
+    if task in ("check", "check-no-qhull"):
+        verdict = check(points, faces, qhull=task == "check")
         extra = {"ok": verdict.ok, "detail": verdict.detail[:120]}
     else:
         with np.errstate(all="ignore"):
@@ -283,8 +284,9 @@ def adversarial(sizes: dict[str, int], repeat: int, seed: int) -> list[str]:
         "sphere": "sphere, every point extreme (right)",
     }
     lines = [
-        "| input | n | check s | check peak MB | ConvexHull s | check / ConvexHull | verdict | target |",
-        "| --- | ---: | ---: | ---: | ---: | ---: | --- | --- |",
+        "| input | n | check s | check peak MB | check --no-qhull s | --no-qhull peak MB | ConvexHull s "
+        "| check / ConvexHull | --no-qhull / ConvexHull | verdict | target |",
+        "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | --- | --- |",
     ]
     with tempfile.TemporaryDirectory() as tmp:
         for kind, n in sizes.items():
@@ -294,25 +296,24 @@ def adversarial(sizes: dict[str, int], repeat: int, seed: int) -> list[str]:
             path = os.path.join(tmp, f"{kind}.npz")
             np.savez(path, points=points, faces=faces)
             del points, faces
-            checks, hulls = [], []
-            for _ in range(repeat):  # interleaved, so the ratio survives a loaded machine
+            checks, alone, hulls = [], [], []
+            for _ in range(repeat):  # interleaved, so the ratios survive a loaded machine
                 checks.append(_child("check", path))
+                alone.append(_child("check-no-qhull", path))
                 hulls.append(_child("hull", path))
             c = min(checks, key=lambda r: r["seconds"])
+            a = min(alone, key=lambda r: r["seconds"])
             h = min(hulls, key=lambda r: r["seconds"])
-            peak = max(r["peak_mb"] for r in checks)
+            if a["ok"] != c["ok"]:
+                raise SystemExit(f"{kind}: check and check --no-qhull disagree ({c['detail']!r} / {a['detail']!r})")
+            peak, peak_alone = max(r["peak_mb"] for r in checks), max(r["peak_mb"] for r in alone)
             hull_note = f"{h['seconds']:.3f}" if h["ok"] else f"fails ({h.get('detail', '')})"
             ratio = f"{c['seconds'] / h['seconds']:.2f}x" if h["ok"] else "-"
+            ratio_alone = f"{a['seconds'] / h['seconds']:.2f}x" if h["ok"] else "-"
             verdict = "valid" if c["ok"] else "invalid"
-            lines.append(f"| {what[kind]} | {n} | {c['seconds']:.3f} | {peak:.0f} | {hull_note} | {ratio} | {verdict} "
-                         f"| {targets[kind]} |")
+            lines.append(f"| {what[kind]} | {n} | {c['seconds']:.3f} | {peak:.0f} | {a['seconds']:.3f} | {peak_alone:.0f} "
+                         f"| {hull_note} | {ratio} | {ratio_alone} | {verdict} | {targets[kind]} |")
     return lines
-
-
-def write_figures(lines: list[str], header: str, path: Path) -> None:
-    """Write the part-3 table (a Markdown file the docs include); nobody types these figures."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(header + "\n\n" + "\n".join(lines) + "\n")
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -328,7 +329,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--wrong-n", type=int, default=100_000, help="points of the wrong 2D and 3D answers")
     parser.add_argument("--mixed-n", type=int, default=200_000, help="points of the mixed-magnitude input")
     parser.add_argument("--sphere-n", type=int, default=1_000_000, help="points of the all-extreme sphere")
-    parser.add_argument("--figures", type=Path, default=FIGURES, help="where part 3 writes its table")
+    add_figures_option(parser, "bench_checker")  # part 3 only
     parser.add_argument("--measure", nargs=2, metavar=("TASK", "NPZ"), help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     clock = time.perf_counter if args.clock == "wall" else time.process_time
@@ -338,14 +339,13 @@ def main(argv: list[str] | None = None) -> int:
     if args.adversarial:
         sizes = {"circle-clockwise": args.wrong_n, "sphere-reversed": args.wrong_n, "mixed": args.mixed_n,
                  "sphere": args.sphere_n}
-        lines = adversarial(sizes, args.repeat, args.seed)
-        load = ", ".join(f"{x:.2f}" for x in os.getloadavg())
-        header = (f"Issue 33's inputs, seed {args.seed}, best of {args.repeat} fresh processes each "
-                  f"(wall clock; load average {load} on {os.cpu_count()} CPUs when written; "
-                  f"ConvexHull timed on the same points in the same run)")
-        print(header + "\n\n" + "\n".join(lines))
-        write_figures(lines, header, args.figures)
-        print(f"\n(written to {args.figures})")
+        reference = "scipy's ConvexHull on the same points, each run in a fresh process, interleaved with check's"
+        with recorded(args.figures, "bench_checker", reference):
+            lines = adversarial(sizes, args.repeat, args.seed)
+            load = ", ".join(f"{x:.2f}" for x in os.getloadavg())
+            print(f"Issue 33's inputs, seed {args.seed}, best of {args.repeat} fresh processes each "
+                  f"(wall clock; load average {load} (1, 5, 15 min) on {os.cpu_count()} CPUs at the end)\n")
+            print("\n".join(lines))
         return 0
 
     sizes = [int(s) for s in args.sizes.split(",") if s.strip()]

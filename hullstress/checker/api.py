@@ -318,7 +318,9 @@ def _assemble(
             theirs = ids.groups(q_vertices)
             mine = hull
             if extreme_ids is not None:
-                mine, theirs = np.intersect1d(hull, extreme_ids), np.intersect1d(theirs, extreme_ids)
+                # (groups are sorted distinct ids: no unique pass needed)
+                mine = np.intersect1d(hull, extreme_ids, assume_unique=True)
+                theirs = np.intersect1d(theirs, extreme_ids, assume_unique=True)
             same, n_mine, n_theirs = np.array_equal(mine, theirs), len(mine), len(theirs)
 
     # Qhull agreement.

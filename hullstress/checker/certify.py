@@ -22,6 +22,7 @@ from .convexity3d import check_convexity3d, face_planes
 from .measure import surface_measure
 from .polygon2d import check_polygon2d
 from .topology import check_topology, half_edges
+from ._unique import unique_ints
 
 __all__ = ["Certificate", "certify"]
 
@@ -106,7 +107,7 @@ def _certify3_oversized(points: np.ndarray, faces: FaceSet) -> Certificate:
         convexity=False,
         manifoldness=False,
         n_faces=faces.n_faces,
-        hull_vertices=np.unique(faces.indices),
+        hull_vertices=unique_ints(faces.indices),
         extreme=None,
         boundary_nonextreme=None,
         outside=cont.outside,
@@ -130,7 +131,7 @@ def _certify3(points: np.ndarray, faces: FaceSet, seed: int) -> Certificate:
     cont = check_containment3d(
         points, faces, conv.plane, certified=topo.ok and conv.ok, center=conv.center, he=he
     )
-    vertices = np.unique(faces.indices)
+    vertices = unique_ints(faces.indices)
     extreme = boundary = None
     if topo.ok and conv.ok and cont.ok:
         extreme = corners3(points, vertices, conv.sharp_edges)
@@ -170,11 +171,11 @@ def _certify2(points: np.ndarray, poly: np.ndarray, seed: int) -> Certificate:
     measure = surface_measure(points, poly)
     pg = check_polygon2d(points, poly, seed=seed, measure=measure)
     cont = check_containment2d(points, poly, certified=pg.manifold_ok and pg.convex_ok, center=pg.center)
-    vertices = np.unique(poly)
+    vertices = unique_ints(poly)
     extreme = boundary = None
     if pg.manifold_ok and pg.convex_ok and cont.ok:
-        extreme = np.unique(poly[pg.turn > 0])
-        boundary = np.unique(poly[pg.turn == 0])
+        extreme = unique_ints(poly[pg.turn > 0])
+        boundary = unique_ints(poly[pg.turn == 0])
     offending = {
         "containment": cont.outside,
         "degenerate_edges": pg.degenerate_edges,

@@ -49,6 +49,8 @@ any magnitude.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
 from ..contract import FaceSet
@@ -59,6 +61,7 @@ from .measure import Measure, rotated_to_lowest
 from .predicates import exact_signs2, exact_signs3, filter2_columns, filter3_columns
 from .topology import half_edges
 from .wrap import break_ties_2d, break_ties_3d, ray_point
+from ._unique import unique_ints
 
 __all__ = ["certify_closed_mesh", "certify_convex_polygon"]
 
@@ -107,31 +110,90 @@ def _certified(
     )
 
 
-def _signs_and_measure(coords: np.ndarray, signed: int) -> tuple[np.ndarray, Measure] | None:
+def _signs_and_measure(
+    gather: Callable[[int, int], np.ndarray], dim: int, rows: int, signed: int
+) -> tuple[np.ndarray, Measure] | None:
     """One float filter over every row, then the volume (area) from the rows from ``signed`` on
     and exact signs for the rows before; None when the volume is not positive.
 
-    ``coords[c, p]`` is coordinate c of the p-th point of every row (the last point
-    is the one subtracted), shape (dim, dim + 1, rows).
+    ``gather(start, stop)`` gives the rows ``start:stop`` as an array ``coords`` of shape
+    (dim, dim + 1, stop - start): ``coords[c, p]`` is coordinate c of the p-th point of
+    every row (the last point is the one subtracted).  Rows are gathered a slab at a
+    time, and again only where the filter leaves a sign undecided, so no array of all
+    rows' coordinates is ever held (it was 960 MB for a sphere of 10**6 points).
     """
-    dim = coords.shape[0]
     filter_columns, exact_signs = (filter2_columns, exact_signs2) if dim == 2 else (filter3_columns, exact_signs3)
     with np.errstate(all="ignore"):  # overflow means an undecided row, settled exactly
-        rows = coords.shape[2]
         det, bound = np.empty(rows), np.empty(rows)
 
         def run_filter(first: int, last: int) -> None:  # the differences and their magnitudes, a slab at a time
             for start in range(first, last, _FILTER_CHUNK):
-                part = slice(start, min(start + _FILTER_CHUNK, last))
-                det[part], bound[part] = filter_columns(coords[:, :dim, part] - coords[:, dim:, part])
+                stop = min(start + _FILTER_CHUNK, last)
+                coords = gather(start, stop)
+                det[start:stop], bound[start:stop] = filter_columns(coords[:, :dim] - coords[:, dim:])
+
+        def gathered(which: np.ndarray, offset: int) -> list[np.ndarray]:  # rows offset + which, as point arguments
+            if not len(which):
+                return [np.zeros((0, dim))] * (dim + 1)
+            lo, hi = int(which[0]), int(which[-1]) + 1
+            coords = gather(offset + lo, offset + hi)
+            if hi - lo != len(which):  # (which is increasing: equal lengths mean every row)
+                coords = coords[:, :, which - lo]
+            return [coords[:, j].T for j in range(dim + 1)]
 
         # The volume rows first: a reversed surface (negative volume) is declined before the rest.
         run_filter(signed, rows)
-        measure = Measure(dim, [coords[:, j, signed:].T for j in range(dim + 1)], (det[signed:], bound[signed:]))
+        measure = Measure(dim, gathered(np.arange(rows - signed), signed), (det[signed:], bound[signed:]))
         if measure.sign <= 0:
             return None
         run_filter(0, signed)
-        return exact_signs(det[:signed], bound[:signed], [coords[:, j, :signed].T for j in range(dim + 1)]), measure
+        sign = np.sign(det[:signed]).astype(np.int8)
+        open_rows = np.flatnonzero(~(np.abs(det[:signed]) > bound[:signed]))  # NaN: undecided
+        if len(open_rows):
+            sign[open_rows] = exact_signs(det[open_rows], bound[open_rows], gathered(open_rows, 0))
+        return sign, measure
+
+
+def _sort_with_positions(keys: np.ndarray, limit: int) -> tuple[np.ndarray, np.ndarray]:
+    """``(order, keys[order])`` with ``order`` sorting the non-negative ``keys`` (all below ``limit``).
+
+    Where key and position fit in one int64 together, one plain sort of the packed
+    values gives both: about three times faster than ``argsort`` on millions of keys.
+    """
+    shift = max(1, int(len(keys)).bit_length())
+    if limit < 2 ** (63 - shift):
+        packed = np.sort((keys << shift) | np.arange(len(keys), dtype=np.int64))
+        return packed & ((1 << shift) - 1), packed >> shift
+    order = np.argsort(keys)
+    return order, keys[order]
+
+
+def _gatherer(points: np.ndarray, idx: np.ndarray, fixed: list[tuple[int, int, int, np.ndarray]]):
+    """``gather(start, stop)`` for :func:`_signs_and_measure`: the coordinates of rows ``idx[:, start:stop]``.
+
+    ``fixed``: ``(p, first, last, point)``, the p-th point of rows ``first:last``
+    is ``point`` (the mean, the ray point, the volume's reference vertex): it is
+    filled in, not gathered (the gather, a random access per coordinate, is the
+    batch's largest cost).
+    """
+    columns = points.T
+    dim = points.shape[1]
+
+    def gather(start: int, stop: int) -> np.ndarray:
+        coords = np.empty((dim, idx.shape[0], stop - start))  # each coordinate row contiguous
+        for p in range(idx.shape[0]):
+            cuts = [start, stop]  # the rows of this slab whose p-th point is gathered: between fixed blocks
+            for q, first, last, point in fixed:
+                lo, hi = max(first, start), min(last, stop)
+                if q == p and lo < hi:
+                    coords[:, p, lo - start : hi - start] = point[:, None]
+                    cuts[-1:] = [lo, hi, stop]
+            for lo, hi in zip(cuts[0::2], cuts[1::2]):  # ("clip": unbuffered; every index is in range)
+                if lo < hi:
+                    np.take(columns, idx[p, lo:hi], axis=1, out=coords[:, p, lo - start : hi - start], mode="clip")
+        return coords
+
+    return gather
 
 
 def certify_closed_mesh(points: np.ndarray, faces: FaceSet, *, seed: int = 0) -> Certificate | None:
@@ -157,17 +219,25 @@ def certify_closed_mesh(points: np.ndarray, faces: FaceSet, *, seed: int = 0) ->
     # Half-edge j runs src[j] -> dst[j] in triangle j // 3; its twin runs back.
     src = tri.ravel()
     dst = tri[:, _NEXT].ravel()
-    key = src * n + dst
-    order = np.argsort(key)
-    ordered = key[order]
-    if np.any(ordered[1:] == ordered[:-1]):
+    # Every directed edge once and its reverse once means: every undirected edge exactly
+    # twice, in opposite directions.  One sort of the undirected keys puts the two side
+    # by side (a search of each reverse key in the sorted directed keys cost ten times
+    # more on 6 million half-edges: every look-up a cache miss).
+    forward = src < dst
+    undirected = np.minimum(src, dst) * n + np.maximum(src, dst)
+    order, ordered = _sort_with_positions(undirected, n * n)
+    first, second = order[0::2], order[1::2]
+    if (
+        len(order) % 2
+        or np.any(ordered[0::2] != ordered[1::2])
+        or np.any(ordered[2::2] == ordered[1:-1:2])
+        or np.any(forward[first] == forward[second])  # (a loop u -> u is never forward)
+    ):
         return None
-    reverse = dst * n + src
-    pos = np.minimum(np.searchsorted(ordered, reverse), len(key) - 1)
-    if np.any(ordered[pos] != reverse):
-        return None
-    half = (src < dst).nonzero()[0]  # one half-edge per edge
-    twin = order[pos[half]]
+    partner = np.empty(len(order), dtype=np.int64)
+    partner[first], partner[second] = second, first
+    half = forward.nonzero()[0]  # one half-edge per edge
+    twin = partner[half]
     is_vertex = np.zeros(n, dtype=bool)
     is_vertex[src] = True
     vertices = is_vertex.nonzero()[0]
@@ -185,7 +255,8 @@ def certify_closed_mesh(points: np.ndarray, faces: FaceSet, *, seed: int = 0) ->
     # gather): reflex test (e), mean below every face (m), wrap number (e),
     # containment (k m), volume (m).
     signed = 2 * e + m + k * m
-    idx = np.zeros((4, signed + m), dtype=np.int64)
+    # int32 rows where the indices fit: half the memory of the largest array here.
+    idx = np.zeros((4, signed + m), dtype=np.int32 if n < 2**31 else np.int64)
     idx[:3, :e] = tri[half // 3].T
     idx[3, :e] = src[twin + _BACK[twin % 3]]  # the vertex of the twin's triangle off the edge
     idx[:3, e : e + m] = tri.T
@@ -196,11 +267,9 @@ def certify_closed_mesh(points: np.ndarray, faces: FaceSet, *, seed: int = 0) ->
         idx[3, 2 * e + m : signed] = np.repeat(candidates, m)
     lowest = rotated_to_lowest(faces).indices.reshape(-1, 3)
     idx[0, signed:], idx[1, signed:], idx[2, signed:], idx[3, signed:] = vertices[0], lowest[:, 1], lowest[:, 0], lowest[:, 2]
-    coords = points.T[:, idx]  # (3, 4, rows): coordinate c of the rows' p-th point, contiguous
-    coords[:, 3, e : e + m] = mean[:, None]
-    coords[:, 0, e + m : 2 * e + m] = mean[:, None]
-    coords[:, 3, e + m : 2 * e + m] = q[:, None]
-    batch = _signs_and_measure(coords, signed)
+    gather = _gatherer(points, idx, [(3, e, e + m, mean), (0, e + m, 2 * e + m, mean), (3, e + m, 2 * e + m, q),
+                                     (0, signed, signed + m, points[vertices[0]])])
+    batch = _signs_and_measure(gather, 3, signed + m, signed)
     if batch is None:
         return None
     sign, measure = batch
@@ -219,11 +288,11 @@ def certify_closed_mesh(points: np.ndarray, faces: FaceSet, *, seed: int = 0) ->
         if not check_containment3d(points, faces, tri, certified=True, center=mean, he=he).ok:
             return None
     sharp_rows = (reflex > 0).nonzero()[0]
-    sharp = idx[1:3, e + m + sharp_rows].T  # the edge's end points, from the wrap-number rows
+    sharp = idx[1:3, e + m + sharp_rows].T.astype(np.int64)  # the edge's end points, from the wrap-number rows
     first_sharp = int(sharp_rows[0])  # a face and a vertex strictly below it: a witness simplex
     extreme = corners3(points, vertices, sharp)
     is_vertex[extreme] = False  # now: vertices that are not corners
-    return _certified(3, m, vertices, extreme, vertices[is_vertex[vertices]], measure, idx[:, first_sharp].copy())
+    return _certified(3, m, vertices, extreme, vertices[is_vertex[vertices]], measure, idx[:, first_sharp].astype(np.int64))
 
 
 def certify_convex_polygon(points: np.ndarray, poly: np.ndarray, *, seed: int = 0) -> Certificate | None:
@@ -275,11 +344,9 @@ def certify_convex_polygon(points: np.ndarray, poly: np.ndarray, *, seed: int = 
         idx[1, 3 * k : signed].reshape(c, k)[:] = nxt
         idx[2, 3 * k : signed] = np.repeat(candidates, k)
     idx[0, signed:], idx[1, signed:], idx[2, signed:] = poly.min(), poly, nxt
-    coords = points.T[:, idx]  # (2, 3, rows)
-    coords[:, 2, k : 2 * k] = mean[:, None]
-    coords[:, 0, 2 * k : 3 * k] = mean[:, None]
-    coords[:, 2, 2 * k : 3 * k] = q[:, None]
-    batch = _signs_and_measure(coords, signed)
+    gather = _gatherer(points, idx, [(2, k, 2 * k, mean), (0, 2 * k, 3 * k, mean), (2, 2 * k, 3 * k, q),
+                                     (0, signed, signed + k, points[poly.min()])])
+    batch = _signs_and_measure(gather, 2, signed + k, signed)
     if batch is None:
         return None
     sign, measure = batch
@@ -295,4 +362,4 @@ def certify_convex_polygon(points: np.ndarray, poly: np.ndarray, *, seed: int = 
         if not cont.ok:
             return None
     strict = int(np.argmax(turn > 0))
-    return _certified(2, k, vertices, np.unique(poly[turn > 0]), np.unique(poly[turn == 0]), measure, idx[:, strict].copy())
+    return _certified(2, k, vertices, unique_ints(poly[turn > 0]), unique_ints(poly[turn == 0]), measure, idx[:, strict].astype(np.int64))

@@ -41,6 +41,7 @@ from ..contract import FaceSet
 from ._geometry import cross3, inner_radius
 from .predicates import orient2d, orient3d
 from .topology import HalfEdges
+from ._unique import unique_ints
 
 __all__ = ["Containment", "check_containment3d", "check_containment2d"]
 
@@ -307,7 +308,7 @@ def _settle_undecided(gi: np.ndarray, gf: np.ndarray, pts: np.ndarray, planes: l
     farthest = np.full(outside.shape, -np.inf)
     farthest[gi, gf] = key
     best = farthest.argmax(axis=1)
-    points_open = np.unique(gi)
+    points_open = unique_ints(gi)
     _exactly_outside(points_open, best[points_open], pts, planes, outside)
     keep = _open(gi, dist, outside, s, norm, worst) & (gf != best[gi])
     gi, gf, dist, key = gi[keep], gf[keep], dist[keep], key[keep]
@@ -553,7 +554,7 @@ def check_containment3d(
         outside = np.concatenate([outside, _brute(points, planes, tri, lost)[0]])
         method = "cones+brute"
     # The magnitude (reporting only): the outside points against every plane.
-    outside, worst = _brute(points, planes, tri, np.unique(outside))
+    outside, worst = _brute(points, planes, tri, unique_ints(outside))
     return Containment(not outside.size, outside, worst, method)
 
 
@@ -632,5 +633,5 @@ def check_containment2d(
     if lost.size:
         outside = np.concatenate([outside, _brute(points, planes, plane_idx, lost)[0]])
         method = "cones+brute"
-    outside, worst = _brute(points, planes, plane_idx, np.unique(outside))
+    outside, worst = _brute(points, planes, plane_idx, unique_ints(outside))
     return Containment(not outside.size, outside, worst, method)

@@ -40,6 +40,7 @@ from ._geometry import point_plane_distance, surface_interior, triangle_array, v
 from .predicates import collinear3d, orient2d, orient3d, orient3d_mean
 from .topology import HalfEdges
 from .wrap import wrap_number_3d
+from ._unique import unique_ints
 
 __all__ = ["Convexity3D", "face_planes", "check_convexity3d"]
 
@@ -181,13 +182,13 @@ def _polygon_defects(points: np.ndarray, faces: FaceSet, plane: np.ndarray) -> t
     coords = points[corner_vertex]
     order = np.lexsort((coords[:, 2], coords[:, 1], coords[:, 0], corner_face))
     same = (corner_face[order][1:] == corner_face[order][:-1]) & np.all(coords[order][1:] == coords[order][:-1], axis=1)
-    bad[np.unique(corner_face[order][1:][same])] = True
+    bad[unique_ints(corner_face[order][1:][same])] = True
     # Planarity.
     tri = plane[corner_face]
     a, b, c = points[tri[:, 0]], points[tri[:, 1]], points[tri[:, 2]]
     off = orient3d(a, b, c, coords) != 0
     if off.any():
-        bad[np.unique(corner_face[off])] = True
+        bad[unique_ints(corner_face[off])] = True
         dist = np.abs(point_plane_distance(a[off], b[off], c[off], coords[off]))
         np.maximum.at(mag, corner_face[off], dist)
     # Convexity in a projection where the plane triple keeps its orientation.
@@ -346,8 +347,8 @@ def check_convexity3d(
     if reflex.any():
         lo = np.minimum(he.src[i[reflex]], he.dst[i[reflex]])
         hi = np.maximum(he.src[i[reflex]], he.dst[i[reflex]])
-        n_reflex = len(np.unique(lo * max(n, 1) + hi))
-        reflex_faces = np.unique(np.concatenate([fi[reflex], fj[reflex]]))
+        n_reflex = len(unique_ints(lo * max(n, 1) + hi))
+        reflex_faces = unique_ints(np.concatenate([fi[reflex], fj[reflex]]))
         reasons.append(f"{n_reflex} reflex edges")
         bad_rows = np.flatnonzero(reflex[row] & (sign < 0))
         pb = plane[fi[row[bad_rows]]]
@@ -360,7 +361,7 @@ def check_convexity3d(
     sharp_mask = best > 0
     src_u, dst_u = he.src[i[sharp_mask]], he.dst[i[sharp_mask]]
     nn = max(n, 1)
-    sharp_key = np.unique(np.minimum(src_u, dst_u) * nn + np.maximum(src_u, dst_u))
+    sharp_key = unique_ints(np.minimum(src_u, dst_u) * nn + np.maximum(src_u, dst_u))
     sharp_edges = np.stack([sharp_key // nn, sharp_key % nn], axis=1).astype(np.int64)
 
     # An interior point strictly below every face.  First the vertices' mean, a float
@@ -371,7 +372,7 @@ def check_convexity3d(
     # and names the faces it is not below.
     has_plane = np.flatnonzero(~no_plane)
     pa, pb, pc = points[plane[has_plane, 0]], points[plane[has_plane, 1]], points[plane[has_plane, 2]]
-    vertices = np.unique(faces.indices)
+    vertices = unique_ints(faces.indices)
     mean = vertex_mean(points[vertices]) if len(vertices) else None
     center = None
     interior = None

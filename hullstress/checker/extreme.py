@@ -16,6 +16,8 @@ from fractions import Fraction
 
 import numpy as np
 
+from ._unique import unique_ints
+
 __all__ = ["exact_extreme_2d", "first_of_each", "rows_in", "Coordinates"]
 
 #: Shewchuk's ccwerrboundA, with a relative slack of 2**-40 for the float evaluation of the bound.
@@ -119,7 +121,7 @@ class Coordinates:
     """
 
     def __init__(self, points: np.ndarray, *index_arrays: np.ndarray):
-        idx = np.unique(np.concatenate([np.asarray(i, dtype=np.int64) for i in index_arrays]))
+        idx = unique_ints(np.concatenate([np.asarray(i, dtype=np.int64) for i in index_arrays]))
         rows = points[idx]  # sorted and compared by value: -0.0 and 0.0 are the same coordinate
         order = np.lexsort(rows.T[::-1])
         srt = rows[order]
@@ -131,7 +133,7 @@ class Coordinates:
 
     def groups(self, idx: np.ndarray) -> np.ndarray:
         """The distinct coordinate ids of ``points[idx]`` (sorted)."""
-        return np.unique(self._id[idx])
+        return unique_ints(self._id[idx])
 
     def distinct(self, idx: np.ndarray) -> int:
         """How many distinct coordinates ``points[idx]`` holds."""

@@ -52,6 +52,7 @@ from ..contract import FaceSet, normalize_output, require_face_size
 from ..errors import ContractViolation
 from ..verdict import Verdict
 from ._geometry import distround, exact_scale
+from ._unique import unique_ints
 from .extreme import _keys, exact_extreme_2d
 from .predicates import orient2d, orient3d
 from .rank import witness_simplex
@@ -130,7 +131,7 @@ def full_dimensional(points: np.ndarray) -> bool:
     n, d = points.shape
     if n <= d:
         return False
-    cand = np.unique(np.concatenate([[0], np.argmin(points, axis=0), np.argmax(points, axis=0)]))
+    cand = unique_ints(np.concatenate([[0], np.argmin(points, axis=0), np.argmax(points, axis=0)]))
     groups = np.array(list(combinations(cand.tolist(), d + 1)), dtype=np.int64)
     if not len(groups):
         return False
@@ -307,7 +308,7 @@ def _face_orientations(faces: FaceSet, idx, prev, nxt, plane: np.ndarray, lex: n
     before[first] = step[faces.offsets[1:] - 1]
     changes = np.bincount(face_of, weights=step != before, minlength=m)
     # A face repeats a point when it has fewer distinct (face, point) pairs than vertices.
-    pairs = np.unique(face_of * (int(idx.max()) + 1) + idx)
+    pairs = unique_ints(face_of * (int(idx.max()) + 1) + idx)
     repeated = np.bincount(pairs // (int(idx.max()) + 1), minlength=m) < sizes
     degenerate = ~pos & ~neg & ~repeated
     nonconvex = ((pos & neg) | spike | (changes != 2)) & ~degenerate & ~repeated
@@ -339,7 +340,7 @@ def _boundary_cycle(src: np.ndarray, dst: np.ndarray) -> tuple[np.ndarray | None
     b = np.where(net[keep] > 0, keys[keep, 1], keys[keep, 0])
     if not len(a):
         return None, "its faces have no boundary (they cover the plane an even number of times)"
-    if len(np.unique(a)) != len(a) or len(np.unique(b)) != len(b):
+    if len(unique_ints(a)) != len(a) or len(unique_ints(b)) != len(b):
         return None, "its boundary is not a simple cycle (faces overlap or leave a hole)"
     succ = dict(zip(a.tolist(), b.tolist()))
     start = int(a[0])
@@ -374,7 +375,7 @@ def _t_junction(src: np.ndarray, dst: np.ndarray, plane: np.ndarray, lex: np.nda
     keys, inverse = np.unique(np.stack([lo, hi], axis=1), axis=0, return_inverse=True)
     net = np.bincount(inverse.ravel(), weights=sign, minlength=len(keys)) != 0
     edges = keys[net]
-    verts = np.unique(src)
+    verts = unique_ints(src)
     if not len(edges) or len(edges) * len(verts) > _JUNCTION_PAIRS:
         return None
     e = np.repeat(np.arange(len(edges)), len(verts))
@@ -394,7 +395,7 @@ def _t_junction(src: np.ndarray, dst: np.ndarray, plane: np.ndarray, lex: np.nda
 
 def _judge_flat(faces: FaceSet, hull: LowerHull, rep: np.ndarray, plane: np.ndarray, lex: np.ndarray, found: _Findings) -> None:
     """Judge faces of a coplanar 3D input: each non-empty side must tile the hull polygon once."""
-    used = np.unique(rep[faces.indices])
+    used = unique_ints(rep[faces.indices])
     missing = hull.extreme[~np.isin(hull.extreme, used)]
     if len(missing):
         found.containment.append(f"extreme point {_quote(missing)} missing")
@@ -535,7 +536,7 @@ def judge_lower_dimensional(
         _judge_faces_of_a_point_or_segment(answer, hull, rep, plane, lex, found)
     else:
         _judge_cycle(rep[answer], hull, plane, lex, found)
-    used = np.unique(rep[answer.indices if isinstance(answer, FaceSet) else answer])
+    used = unique_ints(rep[answer.indices if isinstance(answer, FaceSet) else answer])
     n_faces = answer.n_faces if isinstance(answer, FaceSet) else (len(answer) if len(answer) > 1 else 0)
     return _verdict(pts, hull, lex, found, used, n_faces, reference, max_offending)
 

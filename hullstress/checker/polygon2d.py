@@ -25,6 +25,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ._geometry import point_line_distance, surface_interior, vertex_mean
+from ._unique import unique_ints
 from .measure import Measure, surface_measure
 from .predicates import orient2d, orient2d_mean
 from .wrap import wrap_number_2d
@@ -229,7 +230,7 @@ def check_polygon2d(
     if not rc and (turn > 0).any() and bool(np.all(orient2d(a, b, mean) > 0)):
         center = mean
     else:
-        interior = surface_interior(points, np.unique(poly))
+        interior = surface_interior(points, unique_ints(poly))
         if interior is None:
             rc.append("no interior point: the polygon's vertices are collinear")
         else:
@@ -250,7 +251,7 @@ def check_polygon2d(
     # Manifoldness.
     _, first, counts = np.unique(poly, return_index=True, return_counts=True)
     if np.any(counts > 1):
-        rep = np.flatnonzero(np.isin(poly, np.unique(poly)[counts > 1]))
+        rep = np.flatnonzero(np.isin(poly, unique_ints(poly)[counts > 1]))
         rm.append(f"{int((counts > 1).sum())} repeated vertex indices")
         bad_vertices.append(rep)
     _, inv, ccount = np.unique(a, axis=0, return_inverse=True, return_counts=True)

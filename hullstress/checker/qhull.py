@@ -25,6 +25,7 @@ from scipy.spatial import ConvexHull, QhullError
 
 from ..contract import FaceSet
 from ._geometry import Interior, axis_extents, cross3, distround, exact_scale, triangle_array
+from ._unique import unique_ints
 from .certify import Certificate, certify
 from .extreme import exact_extreme_2d, first_of_each
 from .measure import canonical_triangles, rotated_to_lowest, surface_area, triangle_keys
@@ -459,7 +460,7 @@ def certified_extremes(
     -------
     ndarray of int64 (sorted, one index per coordinate) or None
     """
-    candidates = np.unique(np.asarray(candidates, dtype=np.int64))
+    candidates = unique_ints(np.asarray(candidates, dtype=np.int64))
     if interior is None or len(candidates) < 4:
         return None
     sub = scaled[candidates]

@@ -24,6 +24,7 @@ import numpy as np
 
 from ..contract import FaceSet
 from ._geometry import triangle_array
+from ._unique import unique_ints
 from .measure import Measure, surface_measure
 
 __all__ = ["HalfEdges", "Topology", "half_edges", "check_topology", "components"]
@@ -161,7 +162,7 @@ def _repeated_vertex_faces(faces: FaceSet) -> np.ndarray:
     order = np.lexsort((faces.indices, face))
     f_sorted, v_sorted = face[order], faces.indices[order]
     dup = (f_sorted[1:] == f_sorted[:-1]) & (v_sorted[1:] == v_sorted[:-1])
-    return np.unique(f_sorted[1:][dup])
+    return unique_ints(f_sorted[1:][dup])
 
 
 def _repeated_faces(faces: FaceSet, n_points: int, triangles: bool) -> np.ndarray:
@@ -197,7 +198,7 @@ def _link_cycles(he: HalfEdges) -> np.ndarray:
     h = len(he.src)
     idx = np.flatnonzero(he.twin >= 0)
     label = components(h, idx, he.next[he.twin[idx]])
-    pairs = np.unique(he.src * (h + 1) + label)
+    pairs = unique_ints(he.src * (h + 1) + label)
     verts, counts = np.unique(pairs // (h + 1), return_counts=True)
     return verts[counts > 1]
 
@@ -225,7 +226,7 @@ def _closed_triangle_mesh(
     if np.any(label != 0):
         return None
     n_edges = len(half)
-    if len(np.unique(t)) - n_edges + faces.n_faces != 2:
+    if len(unique_ints(t)) - n_edges + faces.n_faces != 2:
         return None
     sign = (measure if measure is not None else surface_measure(points, faces)).sign
     reasons = [] if sign > 0 else ["inward orientation (signed volume negative)" if sign < 0 else "zero signed volume"]
@@ -305,13 +306,13 @@ def check_topology(
     if he.paired:
         n_edges = len(he.src) // 2
     else:
-        n_edges = len(np.unique(np.minimum(he.src, he.dst) * max(n, 1) + np.maximum(he.src, he.dst)))
+        n_edges = len(unique_ints(np.minimum(he.src, he.dst) * max(n, 1) + np.maximum(he.src, he.dst)))
     paired = np.flatnonzero(he.twin >= 0)
     face_label = components(faces.n_faces, he.face[paired], he.face[he.twin[paired]])
     n_pieces = int(np.count_nonzero(face_label == np.arange(faces.n_faces)))
     if n_pieces != 1:
         reasons.append(f"{n_pieces} connected pieces")
-    n_vertices = len(np.unique(faces.indices))
+    n_vertices = len(unique_ints(faces.indices))
     euler = n_vertices - n_edges + faces.n_faces
     if euler != 2:
         reasons.append(f"Euler characteristic {euler}, expected 2")
@@ -322,6 +323,6 @@ def check_topology(
             reasons.append("inward orientation (signed volume negative)" if sign < 0 else "zero signed volume")
 
     def cat(parts: list[np.ndarray]) -> np.ndarray:
-        return np.unique(np.concatenate(parts)).astype(np.int64) if parts else np.zeros(0, np.int64)
+        return unique_ints(np.concatenate(parts)).astype(np.int64) if parts else np.zeros(0, np.int64)
 
     return Topology(not reasons, cat(bad_faces), cat(bad_vertices), reasons, n_edges)
