@@ -325,6 +325,9 @@ JOURNEYS: dict[str, Journey] = {
                                   "test_the_verifier_accepts_every_certificate_of_the_run"),
     "failure-folder-example": Journey(covered_by="tests/test_handover.py (repro.py, verify.py and bug-report.md "
                                       "in every failure folder of a run; the page's <run> is the user's)"),
+    # docs/checker.md
+    "adversarial-suite": Journey(covered_by="the suite itself (tests/test_checker_adversarial.py runs in CI; its slow "
+                                            "form in the nightly workflow's slow tests)"),
     "mutation": Journey(covered_by="the nightly workflow's mutation job (test_mutation_block_is_the_workflow_s)"),
     "dask-scheduler": Journey(covered_by="test_dask_journey (slow)"),
     "dask-worker": Journey(covered_by="test_dask_journey (slow)"),
