@@ -537,11 +537,7 @@ def run(
         t0 = time.perf_counter()
         if signals.signum is None:
             say("triage: grouping failures by signature, shrinking one case per group, merging groups into causes")
-        triage_bar = PhaseProgress("triage", "groups", live=progress, enabled=echo is not None)
-        try:
-            the_run.triage = _triage(the_run, options, signals, triage_bar)
-        finally:
-            triage_bar.close()
+        the_run.triage = _triage_with_progress(the_run, options, signals, echo=echo, progress=progress)
         the_run.seconds["triage"] = time.perf_counter() - t0
         if the_run.signal is None:
             say(f"triage: {len(the_run.triage.groups)} failure groups -> {len(the_run.triage.causes)} causes "
@@ -623,11 +619,7 @@ def report_rows(
             return the_run
         say(f"triage: {the_run.n_failed} failed calls of {len(the_run.table)}: grouping by signature, shrinking "
             "one case per group, merging groups into causes")
-        triage_bar = PhaseProgress("triage", "groups", live=progress, enabled=echo is not None)
-        try:
-            the_run.triage = _triage(the_run, options, signals, triage_bar)
-        finally:
-            triage_bar.close()
+        the_run.triage = _triage_with_progress(the_run, options, signals, echo=echo, progress=progress)
         the_run.seconds["triage"] = time.perf_counter() - started
         the_run.signal = signals.signum
         say(f"report: writing {run_dir}")
@@ -660,6 +652,18 @@ def _write_tables(the_run: Run, options: RunOptions, *, started: bool = False) -
         the_run.meta = _metadata(the_run, options, run_metadata)
         with _noting_refusals(the_run):
             write_run_json(the_run.run_dir, the_run.meta)
+
+
+def _triage_with_progress(the_run: Run, options: RunOptions, signals: _Signals, *,
+                          echo: Callable[[str], None] | None, progress: bool) -> Any:
+    """The triage phase with its progress bar (shown when the run echoes), for :func:`run` and :func:`report_rows`."""
+    from .progress import PhaseProgress
+
+    triage_bar = PhaseProgress("triage", "groups", live=progress, enabled=echo is not None)
+    try:
+        return _triage(the_run, options, signals, triage_bar)
+    finally:
+        triage_bar.close()
 
 
 def _triage(the_run: Run, options: RunOptions, signals: _Signals, progress: Any = None) -> Any:
