@@ -107,7 +107,7 @@ def _orient(P: list[Vec], ids: list[int]) -> int:
 def no_certificate(status: str, reason: str) -> dict[str, Any]:
     """The certificate of a call that produced no hull: none, and why."""
     return {"format": FORMAT, "geometric": False, "status": status, "witnesses": [],
-            "note": f"the call ended in {status} ({reason}): an {status} is its own evidence (see bug-report.md); "
+            "note": f"the call ended in {status} ({reason}): the {status} is its own evidence (see bug-report.md); "
                     "there is no output to certify"}
 
 
